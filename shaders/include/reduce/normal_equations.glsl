@@ -1,0 +1,82 @@
+// Normal-equation accumulation for 6-parameter least squares, shared by every kernel that
+// reduces residual rows (generic row reduction, ICP, photometric alignment).
+//
+// Each invocation sums its rows into NE_TERMS floats held in registers:
+//   [0..20]  upper triangle of Jᵀ W J, row by row: (0,0) (0,1) .. (0,5) (1,1) .. (5,5)
+//   [21..26] Jᵀ W r
+//   [27]     Σ w r²
+//   [28]     number of rows with w > 0 (inliers)
+// The workgroup then reduces them to one partial of NE_STRIDE floats at partials[group * NE_STRIDE];
+// the host sums the partials in double, so fp32 only ever adds one workgroup's share.
+//
+// The includer declares, before including this file:
+//   layout(local_size_x_id = 0) in;                       (1-D workgroup, size ≥ NE_TERMS)
+//   layout(std430, binding = N) writeonly buffer Partials { float partials[]; };
+// and defines VIFUSION_SUBGROUP_REDUCE to 1 (subgroup arithmetic) or 0 (shared memory only).
+
+#ifndef VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL
+#define VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL
+
+#define NE_TERMS 29
+#define NE_STRIDE 32
+
+#if VIFUSION_SUBGROUP_REDUCE
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#endif
+
+void neClear(out float acc[NE_TERMS]) {
+  for (int k = 0; k < NE_TERMS; ++k) acc[k] = 0.0;
+}
+
+void neAccumulate(inout float acc[NE_TERMS], float J[6], float r, float w) {
+  if (!(w > 0.0)) return;
+  int k = 0;
+  for (int i = 0; i < 6; ++i) {
+    const float wJi = w * J[i];
+    for (int j = i; j < 6; ++j) acc[k++] += wJi * J[j];
+    acc[21 + i] += wJi * r;
+  }
+  acc[27] += w * r * r;
+  acc[28] += 1.0;
+}
+
+#if VIFUSION_SUBGROUP_REDUCE
+// One slot per subgroup; a workgroup has at most gl_WorkGroupSize.x subgroups (subgroup size 1).
+shared float ne_subgroup_sums[gl_WorkGroupSize.x][NE_TERMS];
+
+void neReduceAndStore(float acc[NE_TERMS]) {
+  for (int k = 0; k < NE_TERMS; ++k) {
+    const float sum = subgroupAdd(acc[k]);
+    if (subgroupElect()) ne_subgroup_sums[gl_SubgroupID][k] = sum;
+  }
+  barrier();
+  // Invocation k adds term k across subgroups.
+  const uint k = gl_LocalInvocationIndex;
+  if (k < NE_TERMS) {
+    float total = 0.0;
+    for (uint s = 0; s < gl_NumSubgroups; ++s) total += ne_subgroup_sums[s][k];
+    partials[gl_WorkGroupID.x * NE_STRIDE + k] = total;
+  }
+}
+#else
+// Tree reduction in shared memory; works for any workgroup size (odd tails are folded in).
+shared float ne_invocation_sums[gl_WorkGroupSize.x][NE_TERMS];
+
+void neReduceAndStore(float acc[NE_TERMS]) {
+  const uint i = gl_LocalInvocationIndex;
+  for (int k = 0; k < NE_TERMS; ++k) ne_invocation_sums[i][k] = acc[k];
+  barrier();
+  for (uint live = gl_WorkGroupSize.x; live > 1;) {
+    const uint kept = (live + 1) / 2;
+    if (i < live - kept) {
+      for (int k = 0; k < NE_TERMS; ++k) ne_invocation_sums[i][k] += ne_invocation_sums[i + kept][k];
+    }
+    barrier();
+    live = kept;
+  }
+  if (i < NE_TERMS) partials[gl_WorkGroupID.x * NE_STRIDE + i] = ne_invocation_sums[0][i];
+}
+#endif
+
+#endif  // VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL

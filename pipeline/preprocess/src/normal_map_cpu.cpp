@@ -1,0 +1,58 @@
+// CPU reference of shaders/normal_map.comp. The cross product and norms are written out component
+// by component in the shader's order rather than with Eigen's cross()/normalized(), whose internal
+// order (and vectorisation) is not specified.
+
+#include <cmath>
+
+#include "view_checks.hpp"
+#include "vifusion/preprocess/cpu_reference.hpp"
+
+namespace vifusion::preprocess {
+namespace {
+
+bool isValidVertex(const VertexPixel& vertex_m) { return vertex_m.z() > 0.0f; }
+
+}  // namespace
+
+void normalMapCpu(ImageView<const VertexPixel> vertices, const NormalMapParams& params,
+                  ImageView<NormalPixel> normals) {
+  detail::requireSize(vertices, params.width, params.height, "normalMapCpu", "vertices");
+  detail::requireSize(normals, params.width, params.height, "normalMapCpu", "normals");
+  const float min_norm_sq = params.min_cross_norm_m2 * params.min_cross_norm_m2;
+
+  for (int y = 0; y < params.height; ++y) {
+    for (int x = 0; x < params.width; ++x) {
+      normals(x, y) = NormalPixel::Zero();
+      if (x + 1 >= params.width || y + 1 >= params.height) continue;
+      const VertexPixel& v = vertices(x, y);
+      const VertexPixel& right = vertices(x + 1, y);
+      const VertexPixel& below = vertices(x, y + 1);
+      if (!isValidVertex(v) || !isValidVertex(right) || !isValidVertex(below)) continue;
+
+      const float ax = right.x() - v.x();
+      const float ay = right.y() - v.y();
+      const float az = right.z() - v.z();
+      const float bx = below.x() - v.x();
+      const float by = below.y() - v.y();
+      const float bz = below.z() - v.z();
+      const float cross_x = ay * bz - az * by;
+      const float cross_y = az * bx - ax * bz;
+      const float cross_z = ax * by - ay * bx;
+      const float norm_sq = cross_x * cross_x + cross_y * cross_y + cross_z * cross_z;
+      if (norm_sq < min_norm_sq) continue;
+
+      const float norm = std::sqrt(norm_sq);
+      float nx = cross_x / norm;
+      float ny = cross_y / norm;
+      float nz = cross_z / norm;
+      if (nx * v.x() + ny * v.y() + nz * v.z() > 0.0f) {
+        nx = -nx;
+        ny = -ny;
+        nz = -nz;
+      }
+      normals(x, y) = NormalPixel(nx, ny, nz, 1.0f);
+    }
+  }
+}
+
+}  // namespace vifusion::preprocess

@@ -1,0 +1,61 @@
+#version 450
+// bilateral_depth: edge-preserving smoothing of metric depth (ElasticFusion's defaults: 13 × 13
+// window, σ_space 4.5 px, σ_range 0.03 m). Neighbours that are invalid or outside the image are
+// skipped and the result is normalised by the weights used, so holes and borders do not pull
+// depth towards 0; an invalid centre stays invalid.
+//
+// Bindings (set 0, std430 storage buffers, images row-major and tightly packed, width × height):
+//   0  depth_in   readonly   float[]  metric depth [m], 0 = invalid
+//   1  depth_out  writeonly  float[]  filtered metric depth [m], 0 = invalid
+// Push constants: BilateralDepthParams (vifusion/preprocess/kernel_params.hpp).
+// CPU reference: bilateralDepthCpu. One invocation per output pixel.
+#extension GL_GOOGLE_include_directive : require
+#include "preprocess/common.glsl"
+
+layout(local_size_x = 16, local_size_y = 16) in;
+layout(local_size_x_id = 0, local_size_y_id = 1) in;
+
+layout(push_constant) uniform Params {
+  int width;             // [px]
+  int height;            // [px]
+  int radius_px;         // window half-size [px]; the window is (2r+1)²
+  float sigma_space_px;  // spatial standard deviation [px]
+  float sigma_range_m;   // depth-difference standard deviation [m]
+} params;
+
+layout(set = 0, binding = 0, std430) restrict readonly buffer DepthIn { float depth_in[]; };
+layout(set = 0, binding = 1, std430) restrict writeonly buffer DepthOut { float depth_out[]; };
+
+void main() {
+  const ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (pixel.x >= params.width || pixel.y >= params.height) return;
+
+  const int centre = pixelIndex(pixel, params.width);
+  const float centre_m = depth_in[centre];
+  if (!isValidDepth(centre_m)) {
+    depth_out[centre] = 0.0;
+    return;
+  }
+
+  const float space_coeff = 0.5 / (params.sigma_space_px * params.sigma_space_px);  // 1/(2σ_s²) [1/px²]
+  const float range_coeff = 0.5 / (params.sigma_range_m * params.sigma_range_m);    // 1/(2σ_r²) [1/m²]
+  const int r = params.radius_px;
+  float weight_sum = 0.0;
+  float weighted_depth_sum = 0.0;
+  for (int dy = -r; dy <= r; ++dy) {
+    const int y = pixel.y + dy;
+    if (y < 0 || y >= params.height) continue;
+    for (int dx = -r; dx <= r; ++dx) {
+      const int x = pixel.x + dx;
+      if (x < 0 || x >= params.width) continue;
+      const float d_m = depth_in[pixelIndex(ivec2(x, y), params.width)];
+      if (!isValidDepth(d_m)) continue;
+      const float diff_m = d_m - centre_m;
+      // One exp of the summed exponents (the centre contributes weight exp(0) = 1, so the sum is ≥ 1).
+      const float weight = exp(-(float(dx * dx + dy * dy) * space_coeff) - (diff_m * diff_m) * range_coeff);
+      weight_sum += weight;
+      weighted_depth_sum += weight * d_m;
+    }
+  }
+  depth_out[centre] = weighted_depth_sum / weight_sum;
+}

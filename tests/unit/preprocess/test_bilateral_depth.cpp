@@ -1,0 +1,128 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "synthetic_images.hpp"
+#include "vifusion/preprocess/cpu_reference.hpp"
+
+namespace vifusion::preprocess {
+namespace {
+
+using test::fillImage;
+
+// Up to 169 float weights are summed: the weighted mean of equal values carries a few ULP of
+// rounding, so "unchanged" means within a relative 4e-6.
+constexpr float kRelTol = 4e-6f;
+
+BilateralDepthParams paramsFor(const Image<float>& image) {
+  BilateralDepthParams params;
+  params.width = image.width();
+  params.height = image.height();
+  return params;
+}
+
+TEST(BilateralDepth, DefaultsAreElasticFusions) {
+  const BilateralDepthParams params;
+  EXPECT_EQ(params.radius_px, 6);  // 13 × 13 window
+  EXPECT_FLOAT_EQ(params.sigma_space_px, 4.5f);
+  EXPECT_FLOAT_EQ(params.sigma_range_m, 0.03f);
+}
+
+TEST(BilateralDepth, ConstantImageIsUnchangedEverywhere) {
+  Image<float> depth(20, 15, 1.7f);
+  Image<float> out(20, 15);
+  bilateralDepthCpu(depth.view(), paramsFor(depth), out.view());
+  for (int y = 0; y < 15; ++y) {
+    for (int x = 0; x < 20; ++x) EXPECT_NEAR(out(x, y), 1.7f, kRelTol * 1.7f) << x << "," << y;
+  }
+}
+
+TEST(BilateralDepth, PlanarRampIsUnchangedInTheInterior) {
+  // Both weights are symmetric under (dx, dy) → (−dx, −dy) on a plane, so the weighted mean is the
+  // centre value wherever the whole window lies inside the image.
+  Image<float> depth(30, 28);
+  const auto plane = [](int x, int y) { return 1.0f + 0.002f * static_cast<float>(x) + 0.001f * static_cast<float>(y); };
+  fillImage(depth, plane);
+  Image<float> out(30, 28);
+  const BilateralDepthParams params = paramsFor(depth);
+  bilateralDepthCpu(depth.view(), params, out.view());
+  const int r = params.radius_px;
+  for (int y = r; y < 28 - r; ++y) {
+    for (int x = r; x < 30 - r; ++x) EXPECT_NEAR(out(x, y), depth(x, y), kRelTol * depth(x, y)) << x << "," << y;
+  }
+}
+
+TEST(BilateralDepth, StepEdgeIsPreserved) {
+  // A 0.5 m step is ~17 σ_range: weights across it are exp(−139), far below float resolution.
+  Image<float> depth(24, 12);
+  fillImage(depth, [](int x, int) { return x < 12 ? 1.0f : 1.5f; });
+  Image<float> out(24, 12);
+  bilateralDepthCpu(depth.view(), paramsFor(depth), out.view());
+  for (int y = 0; y < 12; ++y) {
+    for (int x = 0; x < 24; ++x) EXPECT_NEAR(out(x, y), depth(x, y), kRelTol * depth(x, y)) << x << "," << y;
+  }
+}
+
+TEST(BilateralDepth, InvalidPixelsStayInvalidAndDoNotPullNeighbours) {
+  Image<float> depth(17, 13);
+  fillImage(depth, [](int x, int y) { return (x + 2 * y) % 5 == 0 ? 0.0f : 2.0f; });
+  Image<float> out(17, 13, -1.0f);
+  bilateralDepthCpu(depth.view(), paramsFor(depth), out.view());
+  for (int y = 0; y < 13; ++y) {
+    for (int x = 0; x < 17; ++x) {
+      if (depth(x, y) == 0.0f) {
+        EXPECT_EQ(out(x, y), 0.0f) << x << "," << y;
+      } else {
+        EXPECT_NEAR(out(x, y), 2.0f, kRelTol * 2.0f) << x << "," << y;
+      }
+    }
+  }
+}
+
+TEST(BilateralDepth, TwoValidPixelsGiveTheWeightedMean) {
+  Image<float> depth(9, 3, 0.0f);
+  depth(4, 1) = 1.0f;
+  depth(5, 1) = 1.01f;
+  Image<float> out(9, 3);
+  const BilateralDepthParams params = paramsFor(depth);
+  bilateralDepthCpu(depth.view(), params, out.view());
+
+  const double diff = static_cast<double>(1.01f) - 1.0;
+  const double w = std::exp(-1.0 / (2.0 * 4.5 * 4.5) - diff * diff / (2.0 * 0.03 * 0.03));
+  EXPECT_NEAR(out(4, 1), (1.0 + w * 1.01) / (1.0 + w), 1e-6);
+  EXPECT_NEAR(out(5, 1), (1.01 + w * 1.0) / (1.0 + w), 1e-6);
+  EXPECT_EQ(out(3, 1), 0.0f);
+}
+
+TEST(BilateralDepth, NeighboursBeyondTheRadiusAreIgnored) {
+  Image<float> depth(15, 1, 0.0f);
+  depth(0, 0) = 1.0f;
+  depth(7, 0) = 1.02f;   // 7 px from x = 0: outside the radius-6 window
+  depth(13, 0) = 1.03f;  // 6 px from x = 7: inside
+  Image<float> out(15, 1);
+  bilateralDepthCpu(depth.view(), paramsFor(depth), out.view());
+  EXPECT_EQ(out(0, 0), 1.0f);
+  EXPECT_GT(out(7, 0), 1.02f);
+  EXPECT_LT(out(13, 0), 1.03f);
+}
+
+TEST(BilateralDepth, RadiusZeroIsTheIdentity) {
+  Image<float> depth(6, 5);
+  fillImage(depth, [](int x, int y) { return 0.5f + 0.37f * static_cast<float>((x * 7 + y * 3) % 5); });
+  Image<float> out(6, 5);
+  BilateralDepthParams params = paramsFor(depth);
+  params.radius_px = 0;
+  bilateralDepthCpu(depth.view(), params, out.view());
+  for (int y = 0; y < 5; ++y) {
+    for (int x = 0; x < 6; ++x) EXPECT_EQ(out(x, y), depth(x, y));
+  }
+}
+
+TEST(BilateralDepth, RejectsInPlaceFiltering) {
+  Image<float> depth(4, 4, 1.0f);
+  EXPECT_THROW(bilateralDepthCpu(depth.view(), paramsFor(depth), depth.view()), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace vifusion::preprocess

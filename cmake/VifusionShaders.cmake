@@ -10,7 +10,7 @@
 # glslc's "file:line: error" message; edits to #included GLSL files trigger rebuilds (depfile).
 
 # Shared GLSL (#include "reduce/normal_equations.glsl") for production and test shaders alike.
-set(VIFUSION_SHADER_INCLUDE_DIR ${CMAKE_CURRENT_LIST_DIR}/../shaders/include)
+get_filename_component(VIFUSION_SHADER_INCLUDE_DIR ${CMAKE_CURRENT_LIST_DIR}/../shaders/include ABSOLUTE)
 set(VIFUSION_GLSLC_FLAGS --target-env=vulkan1.2 -O -fshader-stage=compute -Werror)
 
 function(vifusion_add_shader)

@@ -35,13 +35,14 @@ PinholeCamera PinholeCamera::atLevel(int level) const {
     throwInvalid("level", level, "must be >= 0 and leave at least one pixel");
   }
   const double scale = 1.0 / static_cast<double>(1 << level);
-  // Pixel j of level l covers level-0 pixels [2^l·j, 2^l·(j+1)), centred at 2^l·(j + 0.5) − 0.5.
+  // Pixel j of level l is the 5-tap Gaussian sample centred on level-0 pixel 2^l·j (the pyramid
+  // kernels sample at even pixels, as cv::pyrDown), so coordinates scale without an offset.
   return PinholeCamera{.width = width >> level,
                        .height = height >> level,
                        .fx = fx * scale,
                        .fy = fy * scale,
-                       .cx = (cx + 0.5) * scale - 0.5,
-                       .cy = (cy + 0.5) * scale - 0.5};
+                       .cx = cx * scale,
+                       .cy = cy * scale};
 }
 
 Eigen::Vector2d PinholeCamera::project(const Eigen::Vector3d& p_C, Eigen::Matrix<double, 2, 3>* J_uv_p) const {

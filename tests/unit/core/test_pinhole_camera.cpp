@@ -110,7 +110,7 @@ TEST(PinholeCamera, ProjectionJacobianMatchesNumeric) {
   EXPECT_MATRIX_NEAR(J, expected, 1e-12);
 }
 
-TEST(PinholeCamera, AtLevelHalvesAndKeepsPixelCentres) {
+TEST(PinholeCamera, AtLevelHalvesFocalLengthsAndPrincipalPoint) {
   const PinholeCamera l0 = iclCamera();
   EXPECT_EQ(l0.atLevel(0).fx, l0.fx);
   EXPECT_EQ(l0.atLevel(0).cx, l0.cx);
@@ -119,24 +119,24 @@ TEST(PinholeCamera, AtLevelHalvesAndKeepsPixelCentres) {
   EXPECT_EQ(l1.height, 240);
   EXPECT_DOUBLE_EQ(l1.fx, 240.6);
   EXPECT_DOUBLE_EQ(l1.fy, -240.0);
-  EXPECT_DOUBLE_EQ(l1.cx, 159.5);
-  EXPECT_DOUBLE_EQ(l1.cy, 119.5);
+  EXPECT_DOUBLE_EQ(l1.cx, 159.75);
+  EXPECT_DOUBLE_EQ(l1.cy, 119.75);
   const PinholeCamera l2 = l0.atLevel(2);
   EXPECT_EQ(l2.width, 160);
   EXPECT_EQ(l2.height, 120);
   EXPECT_DOUBLE_EQ(l2.fx, 120.3);
-  EXPECT_DOUBLE_EQ(l2.cx, 79.5);
-  EXPECT_DOUBLE_EQ(l2.cy, 59.5);
+  EXPECT_DOUBLE_EQ(l2.cx, 79.875);
+  EXPECT_DOUBLE_EQ(l2.cy, 59.875);
   // Odd sizes round down.
   const PinholeCamera odd = PinholeCamera::create(641, 481, 500, 500, 320.0, 240.0).atLevel(1);
   EXPECT_EQ(odd.width, 320);
   EXPECT_EQ(odd.height, 240);
-  EXPECT_DOUBLE_EQ(odd.cx, 159.75);
+  EXPECT_DOUBLE_EQ(odd.cx, 160.0);
 
-  // A 3-D point projects to the level-l pixel that covers its level-0 pixel: u_l = (u_0 + 0.5)/2^l − 0.5.
+  // A 3-D point projects to the level-l coordinate whose sample is centred on it: u_l = u_0 / 2^l.
   const Eigen::Vector3d p_C(0.3, 0.2, 1.7);
   const Eigen::Vector2d uv0 = l0.project(p_C);
-  EXPECT_MATRIX_NEAR(l2.project(p_C), ((uv0.array() + 0.5) / 4.0 - 0.5).matrix(), 1e-12);
+  EXPECT_MATRIX_NEAR(l2.project(p_C), (uv0 / 4.0).eval(), 1e-12);
 }
 
 TEST(PinholeCamera, AtLevelRejectsImpossibleLevels) {

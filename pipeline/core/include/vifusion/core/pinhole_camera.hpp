@@ -20,8 +20,9 @@ struct PinholeCamera {
   /// Validated construction: throws std::invalid_argument naming the bad parameter.
   static PinholeCamera create(int width, int height, double fx, double fy, double cx, double cy);
 
-  /// Intrinsics of pyramid level `level` (each level halves the resolution; pixel centres are
-  /// kept consistent: c_l = (c_0 + 0.5) / 2^l − 0.5). Sizes are floor(size_0 / 2^l); throws
+  /// Intrinsics of pyramid level `level`, matching the preprocessing pyramids: level-l pixel j is
+  /// the Gaussian-weighted sample centred on level-0 pixel 2^l·j, so f_l = f_0 / 2^l and
+  /// c_l = c_0 / 2^l. Sizes are floor(size_0 / 2^l); throws
   /// std::invalid_argument for level < 0 or a level that leaves no pixel.
   PinholeCamera atLevel(int level) const;
 

@@ -87,8 +87,6 @@ Setup& setupFor(int width) {
 
 void reportPixels(benchmark::State& state, const Setup& setup) {
   state.counters["pixels"] = static_cast<double>(setup.rows);
-  state.counters["ms"] = benchmark::Counter(static_cast<double>(state.iterations()) * 1e-3,
-                                            benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
 void gpuStep(benchmark::State& state, int width, int step_index) {

@@ -2,6 +2,7 @@
 
 #include <random>
 
+#include "counting_allocations.hpp"
 #include "counting_vulkan.hpp"
 #include "gpu_test_environment.hpp"
 #include "vifusion/test/seven_scenes_frame.hpp"
@@ -15,7 +16,8 @@ namespace {
 using test::GpuTest;
 using test::vulkanCallCounts;
 
-// After start-up the per-frame path must not allocate GPU memory or create Vulkan objects:
+// After start-up the per-frame path must not allocate GPU memory, create Vulkan objects or touch
+// the C++ heap:
 // 1000 frames of upload → preprocessing → reduction → readback leave every counter where
 // start-up left it. Frames are at 320×240 (two real 7-Scenes frames, decimated) to keep CI fast.
 TEST_F(GpuTest, NoVulkanAllocationAfterStartUpOverAThousandFrames) {
@@ -33,6 +35,7 @@ TEST_F(GpuTest, NoVulkanAllocationAfterStartUpOverAThousandFrames) {
   }
 
   const test::VulkanCallCounts before_start_up = vulkanCallCounts();
+  const uint64_t heap_before_start_up = test::heapAllocationCount();
   constexpr uint32_t kRows = 320 * 240;
   gpu::CapacityPlan plan;
   preprocess::PreprocessOptions preprocess_options;
@@ -54,10 +57,13 @@ TEST_F(GpuTest, NoVulkanAllocationAfterStartUpOverAThousandFrames) {
   // The counter sees start-up, so it would see a per-frame allocation too.
   ASSERT_GT(after_start_up.allocate_memory, before_start_up.allocate_memory);
   ASSERT_GT(after_start_up.create_or_update, before_start_up.create_or_update);
+  ASSERT_GT(test::heapAllocationCount(), heap_before_start_up);
 
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> value(-1.0f, 1.0f);
   const std::span<ResidualRow> rows = reducer.rows();
+  sequence->run();  // first submission: drivers may set up lazily
+  const uint64_t heap_before_frames = test::heapAllocationCount();
   for (int frame = 0; frame < 1000; ++frame) {
     const test::SevenScenesFrame& input = frames[frame % frames.size()];
     preprocess.upload(input.depth_mm.view(), input.rgb.view());
@@ -67,7 +73,9 @@ TEST_F(GpuTest, NoVulkanAllocationAfterStartUpOverAThousandFrames) {
     ASSERT_GE(reducer.result().inliers, 1.0);
   }
 
+  const uint64_t heap_after_frames = test::heapAllocationCount();
   const test::VulkanCallCounts after_frames = vulkanCallCounts();
+  EXPECT_EQ(heap_after_frames, heap_before_frames) << "C++ heap allocations in the per-frame path";
   EXPECT_EQ(after_frames.allocate_memory, after_start_up.allocate_memory);
   EXPECT_EQ(after_frames.create_or_update, after_start_up.create_or_update);
 }

@@ -127,7 +127,7 @@ uint64_t CommandSequence::submit() {
   submit_info.pSignalSemaphores = &timeline_;
   {
     std::lock_guard lock(context_.queueMutex());
-    checkVk(vkQueueSubmit(context_.queue(), 1, &submit_info, VK_NULL_HANDLE), "submitting command sequence '" + name_ + "'");
+    checkVk(vkQueueSubmit(context_.queue(), 1, &submit_info, VK_NULL_HANDLE), "submitting command sequence", name_);
   }
   last_submitted_ = signal_value;
   return signal_value;
@@ -140,12 +140,12 @@ void CommandSequence::wait(uint64_t ticket, int64_t timeout_ns) {
     throw Error("command sequence '" + name_ + "' did not finish within " + std::to_string(timeout_ns / 1'000'000) +
                 " ms (GPU hung or overloaded)");
   }
-  checkVk(result, "waiting for command sequence '" + name_ + "'");
+  checkVk(result, "waiting for command sequence", name_);
 }
 
 bool CommandSequence::isComplete(uint64_t ticket) const {
   uint64_t value = 0;
-  checkVk(vkGetSemaphoreCounterValue(context_.device(), timeline_, &value), "reading the timeline of '" + name_ + "'");
+  checkVk(vkGetSemaphoreCounterValue(context_.device(), timeline_, &value), "reading the timeline of", name_);
   return value >= ticket;
 }
 

@@ -123,6 +123,7 @@ BindingSet ComputeKernel::bind(std::span<const GpuBuffer* const> buffers) {
     throw Error(where + " takes " + std::to_string(spec_.storage_buffers) + " buffers, got " +
                 std::to_string(buffers.size()));
   }
+  if (spec_.storage_buffers == 0) throw Error(where + " takes no buffers, so it needs no binding set");
   if (sets_.size() >= spec_.max_binding_sets) {
     throw Error(where + ": more binding sets than planned (" + std::to_string(spec_.max_binding_sets) + ")");
   }

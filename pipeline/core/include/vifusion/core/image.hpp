@@ -10,6 +10,15 @@
 
 namespace vifusion {
 
+/// One RGB888 pixel, bytes in memory order R, G, B (tightly packed, so an RGB image is its bytes).
+struct Rgb8 {
+  std::uint8_t r = 0;
+  std::uint8_t g = 0;
+  std::uint8_t b = 0;
+  bool operator==(const Rgb8&) const = default;
+};
+static_assert(sizeof(Rgb8) == 3 && alignof(Rgb8) == 1, "RGB888 images must be tightly packed");
+
 /// A width × height grid of T, rows `stride` elements apart (stride ≥ width).
 template <typename T>
 struct ImageView {

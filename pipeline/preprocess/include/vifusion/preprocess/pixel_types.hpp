@@ -5,15 +5,12 @@
 #include <Eigen/Core>
 #include <cstdint>
 
+#include "vifusion/core/image.hpp"
+
 namespace vifusion::preprocess {
 
-/// One RGB888 pixel, bytes in memory order R, G, B.
-struct Rgb8 {
-  std::uint8_t r = 0;
-  std::uint8_t g = 0;
-  std::uint8_t b = 0;
-};
-static_assert(sizeof(Rgb8) == 3 && alignof(Rgb8) == 1, "RGB888 images must be tightly packed");
+/// One RGB888 pixel (defined in core, where every sensor source uses it).
+using Rgb8 = vifusion::Rgb8;
 
 /// Vertex-map pixel: (x, y, z, 1) [m] in the camera frame; Zero() = invalid.
 using VertexPixel = Eigen::Vector4f;

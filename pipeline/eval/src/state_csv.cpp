@@ -1,0 +1,179 @@
+#include "vifusion/eval/state_csv.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <string_view>
+
+#include "vifusion/core/error.hpp"
+
+namespace vifusion::eval {
+namespace {
+
+constexpr const char* kGroundTruthHeader =
+    "#t_ns,p_W_S_x,p_W_S_y,p_W_S_z,q_W_S_x,q_W_S_y,q_W_S_z,q_W_S_w,v_W_S_x,v_W_S_y,v_W_S_z,"
+    "b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z";
+
+std::vector<std::string_view> splitFields(std::string_view line) {
+  std::vector<std::string_view> fields;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    std::string_view field = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    while (!field.empty() && (field.front() == ' ' || field.front() == '\t')) field.remove_prefix(1);
+    while (!field.empty() && (field.back() == ' ' || field.back() == '\t' || field.back() == '\r')) field.remove_suffix(1);
+    fields.push_back(field);
+    if (comma == std::string_view::npos) return fields;
+    start = comma + 1;
+  }
+}
+
+/// A CSV table whose first column is an integer time in ns, read with line-precise errors.
+class CsvReader {
+ public:
+  explicit CsvReader(const std::filesystem::path& path) : path_(path), name_(path.filename().string()), in_(path) {
+    if (!in_) throw Error(path.string() + ": cannot be read");
+    std::string header;
+    if (!std::getline(in_, header)) throw Error(name_ + ": empty file, expected a header line");
+    ++line_number_;
+    if (!header.empty() && header.front() == '#') header.erase(0, 1);
+    for (std::string_view column : splitFields(header)) header_.emplace_back(column);
+  }
+
+  /// Index of column `name`; throws naming the file and the missing column.
+  std::size_t column(const std::string& name) const {
+    for (std::size_t i = 0; i < header_.size(); ++i) {
+      if (header_[i] == name) return i;
+    }
+    throw Error(name_ + " line 1: no column '" + name + "' in the header");
+  }
+
+  /// Reads the next data row; false at the end of the file.
+  bool next() {
+    std::string text;
+    while (std::getline(in_, text)) {
+      ++line_number_;
+      if (text.empty() || text == "\r" || text.front() == '#') continue;
+      line_ = std::move(text);
+      fields_ = splitFields(line_);
+      if (fields_.size() < header_.size()) {
+        fail("expected " + std::to_string(header_.size()) + " columns, found " + std::to_string(fields_.size()));
+      }
+      const int64_t t_ns = integerAt(0);
+      if (has_previous_ && t_ns <= previous_t_ns_) {
+        char step[64];
+        std::snprintf(step, sizeof(step), "%.3f ms", static_cast<double>(previous_t_ns_ - t_ns) * 1e-6);
+        fail(t_ns == previous_t_ns_ ? "timestamp repeats the previous line" : std::string("timestamp goes backwards by ") + step);
+      }
+      previous_t_ns_ = t_ns;
+      has_previous_ = true;
+      return true;
+    }
+    return false;
+  }
+
+  int64_t integerAt(std::size_t index) const {
+    const std::string_view field = fields_[index];
+    int64_t value = 0;
+    const auto [end, error] = std::from_chars(field.data(), field.data() + field.size(), value);
+    if (error != std::errc() || end != field.data() + field.size()) {
+      fail("column '" + header_[index] + "' is not an integer: '" + std::string(field) + "'");
+    }
+    return value;
+  }
+
+  double numberAt(std::size_t index) const {
+    const std::string field(fields_[index]);
+    char* end = nullptr;
+    const double value = std::strtod(field.c_str(), &end);
+    if (field.empty() || end != field.c_str() + field.size() || !std::isfinite(value)) {
+      fail("column '" + header_[index] + "' is not a finite number: '" + field + "'");
+    }
+    return value;
+  }
+
+  Eigen::Vector3d vectorAt(std::size_t first) const {
+    return {numberAt(first), numberAt(first + 1), numberAt(first + 2)};
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw Error(name_ + " line " + std::to_string(line_number_) + ": " + what);
+  }
+
+  std::size_t columnCount() const { return header_.size(); }
+
+ private:
+  std::filesystem::path path_;
+  std::string name_;
+  std::ifstream in_;
+  std::vector<std::string> header_;
+  std::string line_;
+  std::vector<std::string_view> fields_;
+  std::size_t line_number_ = 0;
+  int64_t previous_t_ns_ = 0;
+  bool has_previous_ = false;
+};
+
+}  // namespace
+
+std::vector<GroundTruthState> readGroundTruthStates(const std::filesystem::path& path) {
+  CsvReader reader(path);
+  if (reader.columnCount() != 17) {
+    reader.fail("header has " + std::to_string(reader.columnCount()) + " columns, expected 17 (" +
+                std::string(kGroundTruthHeader + 1) + ")");
+  }
+  std::vector<GroundTruthState> states;
+  while (reader.next()) {
+    GroundTruthState state;
+    state.t_ns = reader.integerAt(0);
+    state.p_W_S = reader.vectorAt(1);
+    const Eigen::Vector4d q(reader.numberAt(4), reader.numberAt(5), reader.numberAt(6), reader.numberAt(7));
+    if (std::abs(q.norm() - 1.0) > 1e-3) reader.fail("quaternion norm " + std::to_string(q.norm()) + " is not 1");
+    state.q_W_S = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()).normalized();
+    state.v_W_S = reader.vectorAt(8);
+    state.b_g = reader.vectorAt(11);
+    state.b_a = reader.vectorAt(14);
+    states.push_back(state);
+  }
+  if (states.empty()) throw Error(path.filename().string() + ": no rows");
+  return states;
+}
+
+std::vector<EstimatedState> readEstimatedStates(const std::filesystem::path& path) {
+  CsvReader reader(path);
+  const std::size_t t = reader.column("t_ns");
+  const std::size_t v = reader.column("v_W_S_x");
+  const std::size_t bg = reader.column("b_g_x");
+  const std::size_t ba = reader.column("b_a_x");
+  const std::size_t g = reader.column("g_W_x");
+  std::vector<EstimatedState> states;
+  while (reader.next()) {
+    EstimatedState state;
+    state.t_ns = reader.integerAt(t);
+    state.v_W_S = reader.vectorAt(v);
+    state.b_g = reader.vectorAt(bg);
+    state.b_a = reader.vectorAt(ba);
+    state.g_W = reader.vectorAt(g);
+    states.push_back(state);
+  }
+  if (states.empty()) throw Error(path.filename().string() + ": no rows");
+  return states;
+}
+
+void writeGroundTruthStates(const std::filesystem::path& path, const std::vector<GroundTruthState>& states) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (file == nullptr) throw Error(path.string() + ": cannot be written");
+  std::fprintf(file, "%s\n", kGroundTruthHeader);
+  for (const GroundTruthState& s : states) {
+    std::fprintf(file, "%lld,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e\n",
+                 static_cast<long long>(s.t_ns), s.p_W_S.x(), s.p_W_S.y(), s.p_W_S.z(), s.q_W_S.x(), s.q_W_S.y(),
+                 s.q_W_S.z(), s.q_W_S.w(), s.v_W_S.x(), s.v_W_S.y(), s.v_W_S.z(), s.b_g.x(), s.b_g.y(), s.b_g.z(),
+                 s.b_a.x(), s.b_a.y(), s.b_a.z());
+  }
+  if (std::fclose(file) != 0) throw Error(path.string() + ": write failed");
+}
+
+}  // namespace vifusion::eval

@@ -101,15 +101,17 @@ AteResult ate(const std::vector<StampedPose>& gt, const std::vector<StampedPose>
 
   std::vector<Eigen::Vector3d> p_est;
   std::vector<Eigen::Vector3d> p_gt;
+  AteResult result;
   for (const Match& m : matches) {
     p_gt.push_back(gt[m.index_a].T_world_body.translation());
     p_est.push_back(est[m.index_b].T_world_body.translation());
+    result.gt_index.push_back(m.index_a);
+    result.est_index.push_back(m.index_b);
   }
 
-  AteResult result;
   result.pairs = matches.size();
   result.T_gt_est = alignRigid(p_est, p_gt);
-  std::vector<double> errors_m;
+  std::vector<double>& errors_m = result.errors_m;
   for (std::size_t i = 0; i < p_est.size(); ++i) errors_m.push_back((result.T_gt_est * p_est[i] - p_gt[i]).norm());
 
   result.rmse_m = rms(errors_m);

@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "eval_command.hpp"
 #include "gpu_self_check.hpp"
 #include "vifusion/core/error.hpp"
 
@@ -20,9 +21,23 @@ int main(int argc, char** argv) {
   run->add_option("--height", self_check.height, "Frame height [px]")->capture_default_str()->check(CLI::Range(16, 4096));
   run->add_option("--frames", self_check.frames, "Timed repetitions per step")->capture_default_str()->check(CLI::Range(1, 100000));
 
+  vifusion::cli::EvalOptions eval;
+  CLI::App* eval_command = app.add_subcommand(
+      "eval", "Evaluate a run against ground truth: ATE, RPE, velocity/bias/gravity errors; one JSON line on stdout");
+  eval_command->add_option("--gt", eval.gt, "Ground-truth trajectory (TUM format, T_world_camera)")->required();
+  eval_command->add_option("--est", eval.est, "Estimated trajectory (TUM format)")->required();
+  eval_command->add_option("--states", eval.states, "Estimator states.csv: adds velocity, bias and gravity errors");
+  eval_command->add_option("--gt-states", eval.gt_states, "Ground-truth states (default: groundtruth_states.csv beside --gt)");
+  eval_command->add_option("--plots", eval.plots_dir, "Directory for PNG plots");
+  eval_command->add_option("--up", eval.up, "Up axis of the ground truth's world (gravity along -up)")
+      ->capture_default_str()->check(CLI::IsMember({"y", "z"}));
+  eval_command->add_option("--max-difference", eval.max_difference_s, "ATE association window [s]")->capture_default_str();
+  eval_command->add_option("--rpe-delta", eval.rpe_delta_s, "RPE step [s]")->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) return vifusion::cli::runGpuSelfCheck(self_check);
+    if (eval_command->parsed()) return vifusion::cli::runEval(eval);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "vifusion: %s\n", error.what());
     return 2;

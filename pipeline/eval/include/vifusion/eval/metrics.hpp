@@ -19,6 +19,10 @@ struct AteResult {
   double max_m = 0.0;
   std::size_t pairs = 0;  ///< Associated (gt, est) pose pairs the statistics run over.
   SE3d T_gt_est;          ///< Rigid alignment applied to the estimate's positions.
+  /// The pairs themselves, in time order (for plots): indices into gt and est, and each error [m].
+  std::vector<std::size_t> gt_index;
+  std::vector<std::size_t> est_index;
+  std::vector<double> errors_m;
 };
 
 /// Absolute trajectory error: stamps associated as associate.py (|Δt| < max_difference_s, offset 0),

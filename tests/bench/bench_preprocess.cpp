@@ -40,7 +40,7 @@ test::SevenScenesFrame frameAt(int width) {
   if (width == full.camera.width) return full;
   const int step = full.camera.width / width;
   test::SevenScenesFrame small{Image<std::uint16_t>(width, full.camera.height / step),
-                               Image<preprocess::Rgb8>(width, full.camera.height / step), full.camera.atLevel(step / 2)};
+                               Image<preprocess::Rgb8>(width, full.camera.height / step), full.camera.atLevel(step / 2), full.T_W_C};
   for (int y = 0; y < small.depth_mm.height(); ++y) {
     for (int x = 0; x < width; ++x) {
       small.depth_mm(x, y) = full.depth_mm(step * x, step * y);

@@ -24,7 +24,8 @@ TEST_F(GpuTest, NoVulkanAllocationAfterStartUpOverAThousandFrames) {
   std::vector<test::SevenScenesFrame> frames;
   for (int index : {150, 160}) {
     const test::SevenScenesFrame full = test::loadSevenScenesFrame(index);
-    test::SevenScenesFrame half{Image<std::uint16_t>(320, 240), Image<preprocess::Rgb8>(320, 240), full.camera.atLevel(1)};
+    test::SevenScenesFrame half{Image<std::uint16_t>(320, 240), Image<preprocess::Rgb8>(320, 240), full.camera.atLevel(1),
+                                 full.T_W_C};
     for (int y = 0; y < 240; ++y) {
       for (int x = 0; x < 320; ++x) {
         half.depth_mm(x, y) = full.depth_mm(2 * x, 2 * y);

@@ -1,6 +1,7 @@
 #include "vifusion/test/seven_scenes_frame.hpp"
 
 #include <cstdio>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "vifusion/core/error.hpp"
@@ -21,7 +22,16 @@ SevenScenesFrame loadSevenScenesFrame(int index) {
   if (bgr.empty()) throw Error(color_path.string() + ": missing or unreadable");
   if (bgr.size() != depth.size()) throw Error(color_path.string() + ": size differs from the depth image");
 
+  const auto pose_path = folder / (std::string(name) + ".pose.txt");
+  std::ifstream pose_file(pose_path);
+  Eigen::Matrix4d T = Eigen::Matrix4d::Zero();
+  for (int i = 0; i < 16; ++i) {
+    if (!(pose_file >> T(i / 4, i % 4))) throw Error(pose_path.string() + ": expected 16 numbers");
+  }
+
   SevenScenesFrame frame;
+  // KinectFusion rotations are orthonormal to ~1e-7; the quaternion constructor normalises.
+  frame.T_W_C = SE3d(Eigen::Quaterniond(Eigen::Matrix3d(T.topLeftCorner<3, 3>())), T.topRightCorner<3, 1>());
   frame.camera = PinholeCamera::create(depth.cols, depth.rows, 585.0, 585.0, 320.0, 240.0);
   frame.depth_mm.resize(depth.cols, depth.rows);
   frame.rgb.resize(depth.cols, depth.rows);

@@ -24,23 +24,27 @@ void RowReducerOptions::validate() const {
   }
 }
 
+ReductionChoice chooseReduction(const gpu::GpuFeatures& features, ReductionVariant variant, ReductionLayout layout) {
+  ReductionChoice choice;
+  switch (variant) {
+    case ReductionVariant::Auto: choice.subgroups = features.subgroup_arithmetic; break;
+    case ReductionVariant::Subgroup:
+      if (!features.subgroup_arithmetic) {
+        throw Error("reduction: subgroup variant requested but '" + features.device_name + "' has no subgroup arithmetic");
+      }
+      choice.subgroups = true;
+      break;
+    case ReductionVariant::SharedMemory: choice.subgroups = false; break;
+  }
+  choice.contiguous_runs = layout == ReductionLayout::Auto ? features.device_type == VK_PHYSICAL_DEVICE_TYPE_CPU
+                                                           : layout == ReductionLayout::ContiguousRuns;
+  return choice;
+}
+
 RowReducer::RowReducer(gpu::GpuContext& context, gpu::CapacityPlan& plan, const RowReducerOptions& options)
     : context_(context), options_(options) {
   options_.validate();
-  const gpu::GpuFeatures& features = context.features();
-  switch (options_.variant) {
-    case ReductionVariant::Auto: use_subgroups_ = features.subgroup_arithmetic; break;
-    case ReductionVariant::Subgroup:
-      if (!features.subgroup_arithmetic) {
-        throw Error("row reducer: subgroup variant requested but '" + features.device_name +
-                    "' has no subgroup arithmetic");
-      }
-      use_subgroups_ = true;
-      break;
-    case ReductionVariant::SharedMemory: use_subgroups_ = false; break;
-  }
-  contiguous_runs_ = options_.layout == ReductionLayout::Auto ? features.device_type == VK_PHYSICAL_DEVICE_TYPE_CPU
-                                                              : options_.layout == ReductionLayout::ContiguousRuns;
+  choice_ = chooseReduction(context.features(), options_.variant, options_.layout);
   rows_id_ = plan.addBuffer("reduction.rows", uint64_t{options_.max_rows} * sizeof(ResidualRow), gpu::MemoryUse::Upload);
   partials_id_ = plan.addBuffer("reduction.partials",
                                 uint64_t{options_.workgroups} * NormalEquations6::kStride * sizeof(float),
@@ -51,12 +55,12 @@ void RowReducer::build(const gpu::MemoryArena& arena) {
   rows_ = &arena.buffer(rows_id_);
   partials_ = &arena.buffer(partials_id_);
   gpu::KernelSpec spec;
-  spec.name = use_subgroups_ ? "reduce_rows_subgroup" : "reduce_rows_shared";
-  spec.spirv = use_subgroups_ ? shaders::reduce_rows_subgroup : shaders::reduce_rows_shared;
+  spec.name = choice_.subgroups ? "reduce_rows_subgroup" : "reduce_rows_shared";
+  spec.spirv = choice_.subgroups ? shaders::reduce_rows_subgroup : shaders::reduce_rows_shared;
   spec.storage_buffers = 2;
   spec.push_constant_bytes = sizeof(uint32_t);
   spec.workgroup_size = {options_.workgroup_size, 1, 1};
-  spec.constants = {{3, contiguous_runs_ ? 1u : 0u}};
+  spec.constants = {{3, choice_.contiguous_runs ? 1u : 0u}};
   kernel_ = gpu::ComputeKernel::create(context_, std::move(spec));
   binding_ = kernel_->bind({rows_, partials_});
 }

@@ -30,6 +30,15 @@ NormalEquations6 reduceRowsCpu(std::span<const ResidualRow> rows);
 enum class ReductionVariant { Auto, Subgroup, SharedMemory };
 enum class ReductionLayout { Auto, ContiguousRuns, GridStride };
 
+/// The kernel variant every reducing kernel (rows, ICP, photometric) uses on a device.
+struct ReductionChoice {
+  bool subgroups = false;        ///< subgroup arithmetic (else a shared-memory tree)
+  bool contiguous_runs = true;   ///< each invocation walks a run of rows (else a grid stride)
+};
+/// Auto picks subgroups when the device has them and contiguous runs on CPU devices (lavapipe),
+/// where streaming through memory beats coalescing. Throws if Subgroup is forced but unsupported.
+ReductionChoice chooseReduction(const gpu::GpuFeatures& features, ReductionVariant variant, ReductionLayout layout);
+
 struct RowReducerOptions {
   uint32_t max_rows = 640 * 480;  ///< capacity of the row buffer
   uint32_t workgroups = 16;       ///< partials the host sums (≥ 1)
@@ -56,14 +65,13 @@ class RowReducer {
   /// Sums the partials of the last completed run in double.
   NormalEquations6 result() const;
 
-  bool usesSubgroups() const { return use_subgroups_; }
-  bool usesContiguousRuns() const { return contiguous_runs_; }
+  bool usesSubgroups() const { return choice_.subgroups; }
+  bool usesContiguousRuns() const { return choice_.contiguous_runs; }
 
  private:
   gpu::GpuContext& context_;
   RowReducerOptions options_;
-  bool use_subgroups_ = false;
-  bool contiguous_runs_ = true;
+  ReductionChoice choice_;
   gpu::BufferId rows_id_;
   gpu::BufferId partials_id_;
   const gpu::GpuBuffer* rows_ = nullptr;

@@ -1,0 +1,48 @@
+#pragma once
+// Parameters of the point-to-plane ICP term, shared verbatim by the shader (a storage buffer with
+// the layout of shaders/include/tracking/icp_params.glsl) and the CPU reference.
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "vifusion/core/pinhole_camera.hpp"
+#include "vifusion/core/se3.hpp"
+
+namespace vifusion::tracking {
+
+/// Association gates and noise model; defaults follow ElasticFusion's gates (10 cm, 20°) and a
+/// Kinect-style axial noise σ_z = 1.2 mm + 1.9 mm/m²·(z − 0.4 m)² (Nguyen et al. 2012).
+struct IcpOptions {
+  float max_distance_m = 0.10f;
+  float max_normal_angle_rad = 20.0f * 3.14159265f / 180.0f;
+  float sigma_z_a_m = 0.0012f;
+  float sigma_z_b_per_m = 0.0019f;
+  float sigma_z_z0_m = 0.4f;
+  float huber_k = 3.0f;  ///< residuals beyond 3σ are down-weighted as outliers
+
+  /// Throws vifusion::Error naming the field that is not positive or out of range.
+  void validate() const;
+};
+
+/// std430 mirror of IcpParams in the shader (24 floats, no padding).
+struct IcpParams {
+  float T_ref_cur_rows[3][4] = {};  ///< rows of the 3×4 transform current → reference camera [m]
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+  std::int32_t width = 0, height = 0;
+  float max_distance_m = 0;
+  float max_normal_sin = 0;
+  float sigma_z_a_m = 0;
+  float sigma_z_b_per_m = 0;
+  float sigma_z_z0_m = 0;
+  float huber_k = 0;
+
+  static IcpParams make(const SE3d& T_ref_cur, const PinholeCamera& camera, const IcpOptions& options);
+};
+static_assert(sizeof(IcpParams) == 24 * 4);
+static_assert(offsetof(IcpParams, fx) == 48);
+static_assert(offsetof(IcpParams, width) == 64);
+static_assert(offsetof(IcpParams, max_distance_m) == 72);
+static_assert(offsetof(IcpParams, huber_k) == 92);
+
+}  // namespace vifusion::tracking

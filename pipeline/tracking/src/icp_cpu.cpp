@@ -1,0 +1,56 @@
+#include "vifusion/tracking/icp_cpu.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace vifusion::tracking {
+
+NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> current_vertices,
+                                       ImageView<const preprocess::NormalPixel> current_normals,
+                                       ImageView<const preprocess::VertexPixel> model_vertices,
+                                       ImageView<const preprocess::NormalPixel> model_normals, const IcpParams& params) {
+  using Eigen::Vector3f;
+  using Eigen::Vector4f;
+  const auto row = [&](int r) {
+    return Vector4f(params.T_ref_cur_rows[r][0], params.T_ref_cur_rows[r][1], params.T_ref_cur_rows[r][2],
+                    params.T_ref_cur_rows[r][3]);
+  };
+  const Vector4f rows[3] = {row(0), row(1), row(2)};
+  NormalEquations6 sum;
+  for (int y = 0; y < params.height; ++y) {
+    for (int x = 0; x < params.width; ++x) {
+      const Vector4f& p = current_vertices(x, y);
+      if (!(p.z() > 0.0f)) continue;
+      const Vector4f p1(p.x(), p.y(), p.z(), 1.0f);
+      const Vector3f q(rows[0].dot(p1), rows[1].dot(p1), rows[2].dot(p1));
+      if (!(q.z() > 0.0f)) continue;
+      const int u = static_cast<int>(std::floor(params.fx * q.x() / q.z() + params.cx + 0.5f));
+      const int v = static_cast<int>(std::floor(params.fy * q.y() / q.z() + params.cy + 0.5f));
+      if (u < 0 || u >= params.width || v < 0 || v >= params.height) continue;
+      const Vector4f& model_v = model_vertices(u, v);
+      const Vector4f& model_n = model_normals(u, v);
+      const Vector4f& cur_n = current_normals(x, y);
+      if (!(model_v.z() > 0.0f) || model_n.w() == 0.0f || cur_n.w() == 0.0f) continue;
+      const Vector3f diff = q - model_v.head<3>();
+      if (diff.squaredNorm() > params.max_distance_m * params.max_distance_m) continue;
+      const Vector3f rotated_n(rows[0].head<3>().dot(cur_n.head<3>()), rows[1].head<3>().dot(cur_n.head<3>()),
+                               rows[2].head<3>().dot(cur_n.head<3>()));
+      const Vector3f normal_cross = rotated_n.cross(model_n.head<3>());
+      if (normal_cross.squaredNorm() > params.max_normal_sin * params.max_normal_sin) continue;
+
+      const Vector3f n = model_n.head<3>();
+      const float r = n.dot(diff);
+      const float dz = p.z() - params.sigma_z_z0_m;
+      const float sigma = params.sigma_z_a_m + params.sigma_z_b_per_m * dz * dz;
+      const float normalised = std::abs(r) / sigma;
+      const float huber = normalised <= params.huber_k ? 1.0f : params.huber_k / normalised;
+      const Vector3f qxn = q.cross(n);
+      Eigen::Matrix<double, 6, 1> J;
+      J << n.cast<double>(), qxn.cast<double>();
+      sum.addRow(J, r, huber / (sigma * sigma));
+    }
+  }
+  return sum;
+}
+
+}  // namespace vifusion::tracking

@@ -1,0 +1,44 @@
+#include "vifusion/tracking/icp_params.hpp"
+
+#include <string>
+
+#include "vifusion/core/error.hpp"
+
+namespace vifusion::tracking {
+
+void IcpOptions::validate() const {
+  const auto positive = [](float value, const char* name) {
+    if (!(value > 0.0f) || !std::isfinite(value)) {
+      throw Error(std::string("ICP option '") + name + "' = " + std::to_string(value) + " must be finite and > 0");
+    }
+  };
+  positive(max_distance_m, "max_distance_m");
+  positive(max_normal_angle_rad, "max_normal_angle_rad");
+  positive(sigma_z_a_m, "sigma_z_a_m");
+  positive(huber_k, "huber_k");
+  if (!(sigma_z_b_per_m >= 0.0f)) throw Error("ICP option 'sigma_z_b_per_m' must be ≥ 0");
+  if (max_normal_angle_rad >= 1.5707963f) throw Error("ICP option 'max_normal_angle_rad' must be below π/2");
+}
+
+IcpParams IcpParams::make(const SE3d& T_ref_cur, const PinholeCamera& camera, const IcpOptions& options) {
+  IcpParams params;
+  const Eigen::Matrix4d T = T_ref_cur.matrix();
+  for (int row = 0; row < 3; ++row) {
+    for (int col = 0; col < 4; ++col) params.T_ref_cur_rows[row][col] = static_cast<float>(T(row, col));
+  }
+  params.fx = static_cast<float>(camera.fx);
+  params.fy = static_cast<float>(camera.fy);
+  params.cx = static_cast<float>(camera.cx);
+  params.cy = static_cast<float>(camera.cy);
+  params.width = camera.width;
+  params.height = camera.height;
+  params.max_distance_m = options.max_distance_m;
+  params.max_normal_sin = std::sin(options.max_normal_angle_rad);
+  params.sigma_z_a_m = options.sigma_z_a_m;
+  params.sigma_z_b_per_m = options.sigma_z_b_per_m;
+  params.sigma_z_z0_m = options.sigma_z_z0_m;
+  params.huber_k = options.huber_k;
+  return params;
+}
+
+}  // namespace vifusion::tracking

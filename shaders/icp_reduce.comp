@@ -19,7 +19,6 @@
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x_id = 0) in;
-layout(constant_id = 3) const bool kContiguousRuns = true;
 
 #include "tracking/icp_params.glsl"
 
@@ -32,7 +31,7 @@ layout(std430, binding = 5) restrict writeonly buffer Partials { float partials[
 
 #include "reduce/normal_equations.glsl"
 
-void addPixel(inout float acc[NE_TERMS], int i) {
+void neAddItem(inout float acc[NE_TERMS], int i) {
   const vec4 p = cur_vertices[i];
   if (!(p.z > 0.0)) return;
   const vec3 q = vec3(dot(params.T_ref_cur_rows[0], vec4(p.xyz, 1.0)), dot(params.T_ref_cur_rows[1], vec4(p.xyz, 1.0)),
@@ -65,18 +64,4 @@ void addPixel(inout float acc[NE_TERMS], int i) {
   neAccumulate(acc, J, r, huber / (sigma * sigma));
 }
 
-void main() {
-  float acc[NE_TERMS];
-  neClear(acc);
-  const int pixels = params.width * params.height;
-  const int invocations = int(gl_NumWorkGroups.x * gl_WorkGroupSize.x);
-  const int id = int(gl_GlobalInvocationID.x);
-  if (kContiguousRuns) {
-    const int run = (pixels + invocations - 1) / invocations;
-    const int last = min(id * run + run, pixels);
-    for (int i = id * run; i < last; ++i) addPixel(acc, i);
-  } else {
-    for (int i = id; i < pixels; i += invocations) addPixel(acc, i);
-  }
-  neReduceAndStore(acc);
-}
+void main() { neReduceItems(params.width * params.height); }

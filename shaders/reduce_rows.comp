@@ -6,11 +6,8 @@
 // binding 1: partials  float[groups · NE_STRIDE]
 //
 // Specialization: 0 = workgroup size (≥ 29); 3 = contiguous runs (1) or grid stride (0).
-// Contiguous runs suit CPU devices such as lavapipe (each invocation streams through memory);
-// a grid stride coalesces loads on GPUs.
 
 layout(local_size_x_id = 0) in;
-layout(constant_id = 3) const bool kContiguousRuns = true;
 
 layout(std430, binding = 0) readonly buffer Rows { vec4 rows[]; };
 layout(std430, binding = 1) writeonly buffer Partials { float partials[]; };
@@ -18,25 +15,11 @@ layout(push_constant) uniform Params { uint row_count; } params;
 
 #include "reduce/normal_equations.glsl"
 
-void addRow(inout float acc[NE_TERMS], uint row) {
+void neAddItem(inout float acc[NE_TERMS], int row) {
   const vec4 a = rows[2 * row];
   const vec4 b = rows[2 * row + 1];
   const float J[6] = float[6](a.x, a.y, a.z, a.w, b.x, b.y);
   neAccumulate(acc, J, b.z, b.w);
 }
 
-void main() {
-  float acc[NE_TERMS];
-  neClear(acc);
-  const uint invocations = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  const uint id = gl_GlobalInvocationID.x;
-  if (kContiguousRuns) {
-    const uint run = (params.row_count + invocations - 1) / invocations;
-    const uint first = id * run;
-    const uint last = min(first + run, params.row_count);
-    for (uint row = first; row < last; ++row) addRow(acc, row);
-  } else {
-    for (uint row = id; row < params.row_count; row += invocations) addRow(acc, row);
-  }
-  neReduceAndStore(acc);
-}
+void main() { neReduceItems(int(params.row_count)); }

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "pose_and_camera.hpp"
 #include "vifusion/core/error.hpp"
 
 namespace vifusion::tracking {
@@ -22,16 +23,7 @@ void IcpOptions::validate() const {
 
 IcpParams IcpParams::make(const SE3d& T_ref_cur, const PinholeCamera& camera, const IcpOptions& options) {
   IcpParams params;
-  const Eigen::Matrix4d T = T_ref_cur.matrix();
-  for (int row = 0; row < 3; ++row) {
-    for (int col = 0; col < 4; ++col) params.T_ref_cur_rows[row][col] = static_cast<float>(T(row, col));
-  }
-  params.fx = static_cast<float>(camera.fx);
-  params.fy = static_cast<float>(camera.fy);
-  params.cx = static_cast<float>(camera.cx);
-  params.cy = static_cast<float>(camera.cy);
-  params.width = camera.width;
-  params.height = camera.height;
+  setPoseAndCamera(params, T_ref_cur, camera);
   params.max_distance_m = options.max_distance_m;
   params.max_normal_sin = std::sin(options.max_normal_angle_rad);
   params.sigma_z_a_m = options.sigma_z_a_m;

@@ -12,7 +12,9 @@
 // The includer declares, before including this file:
 //   layout(local_size_x_id = 0) in;                       (1-D workgroup, size ≥ NE_TERMS)
 //   layout(std430, binding = N) writeonly buffer Partials { float partials[]; };
-// and defines VIFUSION_SUBGROUP_REDUCE to 1 (subgroup arithmetic) or 0 (shared memory only).
+// defines VIFUSION_SUBGROUP_REDUCE to 1 (subgroup arithmetic) or 0 (shared memory only), and after
+// including it defines neAddItem(acc, i), which accumulates item i (a row, a pixel); its main()
+// then calls neReduceItems(count). Specialization constant 3 chooses how items are split.
 
 #ifndef VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL
 #define VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL
@@ -78,5 +80,27 @@ void neReduceAndStore(float acc[NE_TERMS]) {
   if (i < NE_TERMS) partials[gl_WorkGroupID.x * NE_STRIDE + i] = ne_invocation_sums[0][i];
 }
 #endif
+
+// Contiguous runs suit CPU devices such as lavapipe (each invocation streams through memory); a
+// grid stride coalesces loads on GPUs.
+layout(constant_id = 3) const bool kContiguousRuns = true;
+
+void neAddItem(inout float acc[NE_TERMS], int i);
+
+// Accumulates this invocation's share of items 0..count−1 and stores the workgroup's partial.
+void neReduceItems(int count) {
+  float acc[NE_TERMS];
+  neClear(acc);
+  const int invocations = int(gl_NumWorkGroups.x * gl_WorkGroupSize.x);
+  const int id = int(gl_GlobalInvocationID.x);
+  if (kContiguousRuns) {
+    const int run = (count + invocations - 1) / invocations;
+    const int last = min(id * run + run, count);
+    for (int i = id * run; i < last; ++i) neAddItem(acc, i);
+  } else {
+    for (int i = id; i < count; i += invocations) neAddItem(acc, i);
+  }
+  neReduceAndStore(acc);
+}
 
 #endif  // VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL

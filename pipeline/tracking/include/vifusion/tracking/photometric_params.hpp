@@ -1,0 +1,42 @@
+#pragma once
+// Parameters of the photometric term, shared verbatim by the shader (a storage buffer with the
+// layout of shaders/include/tracking/photometric_params.glsl) and the CPU reference.
+
+#include <cstddef>
+#include <cstdint>
+
+#include "vifusion/core/pinhole_camera.hpp"
+#include "vifusion/core/se3.hpp"
+
+namespace vifusion::tracking {
+
+/// Defaults: σ_I = 4 (the paper's Table I, synthetic data; 1 for the real sensor), ElasticFusion's
+/// 7 cm occlusion gate; gradients below 3 intensity/px carry no information worth its noise.
+struct PhotometricOptions {
+  float sigma_intensity = 4.0f;
+  float huber_k = 3.0f;
+  float min_gradient = 3.0f;
+  float max_depth_difference_m = 0.07f;
+
+  /// Throws vifusion::Error naming the field that is not finite and positive.
+  void validate() const;
+};
+
+/// std430 mirror of PhotometricParams in the shader (24 floats).
+struct PhotometricParams {
+  float T_ref_cur_rows[3][4] = {};
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+  std::int32_t width = 0, height = 0;
+  float sigma_intensity = 0;
+  float huber_k = 0;
+  float min_gradient = 0;
+  float max_depth_difference_m = 0;
+  float pad0 = 0, pad1 = 0;
+
+  static PhotometricParams make(const SE3d& T_ref_cur, const PinholeCamera& camera, const PhotometricOptions& options);
+};
+static_assert(sizeof(PhotometricParams) == 24 * 4);
+static_assert(offsetof(PhotometricParams, width) == 64);
+static_assert(offsetof(PhotometricParams, max_depth_difference_m) == 84);
+
+}  // namespace vifusion::tracking

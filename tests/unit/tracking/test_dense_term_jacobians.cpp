@@ -1,0 +1,126 @@
+// Numeric checks of the dense terms' analytic Jacobians through their CPU references (the GPU tests
+// hold the shaders to these): with robust weights switched off, b = Σ w Jᵀ r is the gradient of the
+// cost ½ Σ w r² with respect to the left perturbation δ of T_ref_cur, so central differences of the
+// cost must reproduce b. The scene is a textured plane, on which ICP's projective association can
+// change pixel without changing any residual, so the cost is smooth.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "vifusion/core/image.hpp"
+#include "vifusion/core/pinhole_camera.hpp"
+#include "vifusion/core/se3.hpp"
+#include "vifusion/tracking/icp_cpu.hpp"
+#include "vifusion/tracking/photometric_cpu.hpp"
+
+namespace vifusion::tracking {
+namespace {
+
+using preprocess::GradientPixel;
+using preprocess::NormalPixel;
+using preprocess::VertexPixel;
+
+// Plane n·X = c in the reference camera frame, facing the camera.
+const Eigen::Vector3d kPlaneNormal = Eigen::Vector3d(0.15, -0.2, -1.0).normalized();
+const double kPlaneOffset = kPlaneNormal.dot(Eigen::Vector3d(0.0, 0.0, 2.0));
+
+/// Smooth texture as a function of the point on the plane (reference frame), 0..255.
+double texture(const Eigen::Vector3d& X_ref) { return 128.0 + 60.0 * std::sin(4.0 * X_ref.x()) * std::cos(3.0 * X_ref.y()); }
+
+struct View {
+  Image<VertexPixel> vertices;
+  Image<NormalPixel> normals;
+  Image<float> intensity;
+  Image<GradientPixel> gradients;
+};
+
+/// Ray-casts the plane from a camera at T_ref_cam (vertices and normals in that camera's frame).
+/// Vertices closer than `margin_px` to the border are left invalid: the current view's points then
+/// always project inside the reference image, so no pixel enters or leaves the sums under the small
+/// perturbations of the numeric derivative (that would make the cost jump).
+View render(const PinholeCamera& camera, const SE3d& T_ref_cam, int margin_px) {
+  View view{Image<VertexPixel>(camera.width, camera.height, VertexPixel::Zero()),
+            Image<NormalPixel>(camera.width, camera.height, NormalPixel::Zero()),
+            Image<float>(camera.width, camera.height), Image<GradientPixel>(camera.width, camera.height, GradientPixel::Zero())};
+  const SE3d T_cam_ref = T_ref_cam.inverse();
+  const Eigen::Vector3d n_cam = T_cam_ref.rotationMatrix() * kPlaneNormal;
+  const double c_cam = kPlaneOffset + n_cam.dot(T_cam_ref.translation());
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = 0; u < camera.width; ++u) {
+      const Eigen::Vector3d ray = camera.backProject(Eigen::Vector2d(u, v), 1.0);
+      const Eigen::Vector3d X = c_cam / n_cam.dot(ray) * ray;
+      const bool inside = u >= margin_px && v >= margin_px && u < camera.width - margin_px && v < camera.height - margin_px;
+      if (inside) view.vertices(u, v) << X.cast<float>(), 1.0f;
+      view.normals(u, v) << n_cam.cast<float>(), 1.0f;
+      view.intensity(u, v) = static_cast<float>(texture(T_ref_cam * X));
+    }
+  }
+  for (int v = 1; v + 1 < camera.height; ++v) {
+    for (int u = 1; u + 1 < camera.width; ++u) {
+      view.gradients(u, v) = 0.5f * GradientPixel(view.intensity(u + 1, v) - view.intensity(u - 1, v),
+                                                  view.intensity(u, v + 1) - view.intensity(u, v - 1));
+    }
+  }
+  return view;
+}
+
+/// Central differences of the cost ½ Σ w r² (cost(T) returns Σ w r²) under T ← exp(δ)·T.
+Eigen::Matrix<double, 6, 1> numericGradient(const std::function<double(const SE3d&)>& cost, const SE3d& T, double step) {
+  Eigen::Matrix<double, 6, 1> gradient;
+  for (int k = 0; k < 6; ++k) {
+    Eigen::Matrix<double, 6, 1> delta = Eigen::Matrix<double, 6, 1>::Zero();
+    delta[k] = step;
+    gradient[k] = 0.5 * (cost(SE3d::exp(delta) * T) - cost(SE3d::exp(-delta) * T)) / (2.0 * step);
+  }
+  return gradient;
+}
+
+class DenseTermJacobians : public ::testing::Test {
+ protected:
+  PinholeCamera camera_ = PinholeCamera::create(80, 60, 70.0, 70.0, 39.5, 29.5);
+  SE3d T_ref_cur_true_ = SE3d::exp((Eigen::Matrix<double, 6, 1>() << 0.02, 0.01, -0.03, 0.01, -0.02, 0.015).finished());
+  // Evaluate away from the optimum so that residuals, and the gradient, are not zero.
+  SE3d T_ref_cur_ = SE3d::exp((Eigen::Matrix<double, 6, 1>() << 0.01, -0.005, 0.01, -0.006, 0.004, 0.005).finished()) *
+                    T_ref_cur_true_;
+  View reference_ = render(camera_, SE3d(), 0);
+  View current_ = render(camera_, T_ref_cur_true_, 12);
+};
+
+TEST_F(DenseTermJacobians, IcpGradientMatchesCentralDifferencesOfTheCost) {
+  IcpOptions options;
+  options.huber_k = 1e9f;  // plain least squares: the weight must not depend on the residual
+  const auto equations = [&](const SE3d& T) {
+    return icpNormalEquationsCpu(current_.vertices.view(), current_.normals.view(), reference_.vertices.view(),
+                                 reference_.normals.view(), IcpParams::make(T, camera_, options));
+  };
+  const NormalEquations6 at = equations(T_ref_cur_);
+  ASSERT_GT(at.inliers, 1500.0);
+  const Eigen::Matrix<double, 6, 1> numeric =
+      numericGradient([&](const SE3d& T) { return equations(T).weighted_squared_residual; }, T_ref_cur_, 1e-4);
+  EXPECT_LT((numeric - at.b).norm(), 1e-3 * at.b.norm()) << "analytic " << at.b.transpose() << "\nnumeric  "
+                                                         << numeric.transpose();
+}
+
+TEST_F(DenseTermJacobians, PhotometricGradientMatchesCentralDifferencesOfTheCost) {
+  PhotometricOptions options;
+  options.huber_k = 1e9f;
+  options.min_gradient = 0.0f;
+  options.max_depth_difference_m = 1.0f;
+  const auto equations = [&](const SE3d& T) {
+    return photometricNormalEquationsCpu(current_.vertices.view(), current_.intensity.view(), reference_.intensity.view(),
+                                         reference_.gradients.view(), reference_.vertices.view(),
+                                         PhotometricParams::make(T, camera_, options));
+  };
+  const NormalEquations6 at = equations(T_ref_cur_);
+  ASSERT_GT(at.inliers, 1500.0);
+  const Eigen::Matrix<double, 6, 1> numeric =
+      numericGradient([&](const SE3d& T) { return equations(T).weighted_squared_residual; }, T_ref_cur_, 1e-4);
+  // The Jacobian uses the central-difference gradient image, the cost the bilinear interpolant's
+  // slope; on this smooth texture they agree to about a percent.
+  EXPECT_LT((numeric - at.b).norm(), 0.03 * at.b.norm()) << "analytic " << at.b.transpose() << "\nnumeric  "
+                                                         << numeric.transpose();
+}
+
+}  // namespace
+}  // namespace vifusion::tracking

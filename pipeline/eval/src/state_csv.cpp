@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <string_view>
 
@@ -12,10 +11,6 @@
 
 namespace vifusion::eval {
 namespace {
-
-constexpr const char* kGroundTruthHeader =
-    "#t_ns,p_W_S_x,p_W_S_y,p_W_S_z,q_W_S_x,q_W_S_y,q_W_S_z,q_W_S_w,v_W_S_x,v_W_S_y,v_W_S_z,"
-    "b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z";
 
 std::vector<std::string_view> splitFields(std::string_view line) {
   std::vector<std::string_view> fields;
@@ -103,8 +98,6 @@ class CsvReader {
     throw Error(name_ + " line " + std::to_string(line_number_) + ": " + what);
   }
 
-  std::size_t columnCount() const { return header_.size(); }
-
  private:
   std::filesystem::path path_;
   std::string name_;
@@ -118,29 +111,6 @@ class CsvReader {
 };
 
 }  // namespace
-
-std::vector<GroundTruthState> readGroundTruthStates(const std::filesystem::path& path) {
-  CsvReader reader(path);
-  if (reader.columnCount() != 17) {
-    reader.fail("header has " + std::to_string(reader.columnCount()) + " columns, expected 17 (" +
-                std::string(kGroundTruthHeader + 1) + ")");
-  }
-  std::vector<GroundTruthState> states;
-  while (reader.next()) {
-    GroundTruthState state;
-    state.t_ns = reader.integerAt(0);
-    state.p_W_S = reader.vectorAt(1);
-    const Eigen::Vector4d q(reader.numberAt(4), reader.numberAt(5), reader.numberAt(6), reader.numberAt(7));
-    if (std::abs(q.norm() - 1.0) > 1e-3) reader.fail("quaternion norm " + std::to_string(q.norm()) + " is not 1");
-    state.q_W_S = Eigen::Quaterniond(q.w(), q.x(), q.y(), q.z()).normalized();
-    state.v_W_S = reader.vectorAt(8);
-    state.b_g = reader.vectorAt(11);
-    state.b_a = reader.vectorAt(14);
-    states.push_back(state);
-  }
-  if (states.empty()) throw Error(path.filename().string() + ": no rows");
-  return states;
-}
 
 std::vector<EstimatedState> readEstimatedStates(const std::filesystem::path& path) {
   CsvReader reader(path);
@@ -161,19 +131,6 @@ std::vector<EstimatedState> readEstimatedStates(const std::filesystem::path& pat
   }
   if (states.empty()) throw Error(path.filename().string() + ": no rows");
   return states;
-}
-
-void writeGroundTruthStates(const std::filesystem::path& path, const std::vector<GroundTruthState>& states) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (file == nullptr) throw Error(path.string() + ": cannot be written");
-  std::fprintf(file, "%s\n", kGroundTruthHeader);
-  for (const GroundTruthState& s : states) {
-    std::fprintf(file, "%lld,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9e,%.9e,%.9e,%.9e,%.9e,%.9e\n",
-                 static_cast<long long>(s.t_ns), s.p_W_S.x(), s.p_W_S.y(), s.p_W_S.z(), s.q_W_S.x(), s.q_W_S.y(),
-                 s.q_W_S.z(), s.q_W_S.w(), s.v_W_S.x(), s.v_W_S.y(), s.v_W_S.z(), s.b_g.x(), s.b_g.y(), s.b_g.z(),
-                 s.b_a.x(), s.b_a.y(), s.b_a.z());
-  }
-  if (std::fclose(file) != 0) throw Error(path.string() + ": write failed");
 }
 
 }  // namespace vifusion::eval

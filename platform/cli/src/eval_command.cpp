@@ -9,6 +9,7 @@
 #include "line_plot.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/time.hpp"
+#include "vifusion/datasets/ground_truth_states.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/state_errors.hpp"
@@ -109,7 +110,7 @@ int runEval(const EvalOptions& options) {
                                                 ? std::filesystem::path(options.gt).parent_path() / "groundtruth_states.csv"
                                                 : std::filesystem::path(options.gt_states);
     const Eigen::Vector3d g_gt_W = options.up == "z" ? Eigen::Vector3d(0, 0, -9.81) : Eigen::Vector3d(0, -9.81, 0);
-    state_errors = eval::stateErrors(eval::readGroundTruthStates(gt_states), eval::readEstimatedStates(options.states),
+    state_errors = eval::stateErrors(datasets::readGroundTruthStates(gt_states), eval::readEstimatedStates(options.states),
                                      ate.T_gt_est.rotationMatrix(), g_gt_W);
     report["states"] = {{"velocity_rms_mps", state_errors->velocity_rms_mps},
                         {"velocity_rms_after_5s_mps", state_errors->velocity_rms_after_5s_mps},

@@ -74,22 +74,6 @@ TEST(StateErrors, NoOverlapIsAnError) {
               "no estimated state lies within");
 }
 
-TEST(StateCsv, GroundTruthRoundTripsExactlyEnough) {
-  std::vector<GroundTruthState> states = groundTruth();
-  states.resize(20);
-  states[3].q_W_S = Eigen::Quaterniond(expSO3(Eigen::Vector3d(0.3, -0.2, 1.0)));
-  const TempFile file("gt_states.csv", "");
-  writeGroundTruthStates(file.path(), states);
-  const std::vector<GroundTruthState> read = readGroundTruthStates(file.path());
-  ASSERT_EQ(read.size(), states.size());
-  for (std::size_t i = 0; i < states.size(); ++i) {
-    EXPECT_EQ(read[i].t_ns, states[i].t_ns);
-    EXPECT_LT((read[i].v_W_S - states[i].v_W_S).norm(), 1e-8);
-    EXPECT_LT((read[i].b_g - states[i].b_g).norm(), 1e-12);
-    EXPECT_LT(read[i].q_W_S.angularDistance(states[i].q_W_S), 1e-8);
-  }
-}
-
 TEST(StateCsv, CorruptTablesNameFileLineAndColumn) {
   const std::string header = "t_ns,v_W_S_x,v_W_S_y,v_W_S_z,b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z,g_W_x,g_W_y,g_W_z\n";
   const std::string row = ",0,0,0,0,0,0,0,0,0,0,-1,0\n";

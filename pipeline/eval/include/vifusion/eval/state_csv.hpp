@@ -1,8 +1,7 @@
 #pragma once
-// The two state tables that `vifusion eval --states` compares:
-//  - groundtruth_states.csv written by `vifusion sim`, one row per IMU sample:
-//      t_ns, p_W_S xyz, q_W_S xyzw, v_W_S xyz, b_g xyz, b_a xyz        (17 columns)
-//  - states.csv written by `vifusion run`, one row per frame; columns found by header name:
+// The estimator's states.csv that `vifusion eval --states` compares with the simulator's
+// groundtruth_states.csv (read by the datasets library, where the dataset layout lives).
+// states.csv is written by `vifusion run`, one row per frame; columns found by header name:
 //      t_ns, v_W_S_{x,y,z}, b_g_{x,y,z}, b_a_{x,y,z}, g_W_{x,y,z} (others, e.g. poses and
 //      covariance diagonals, are ignored here).
 // Velocities are in the dataset/map world W [m/s], biases in the IMU frame S, g_W the estimated
@@ -13,7 +12,6 @@
 #include <filesystem>
 #include <vector>
 
-#include "vifusion/core/sensor_data.hpp"
 
 namespace vifusion::eval {
 
@@ -27,10 +25,6 @@ struct EstimatedState {
 
 /// @throws vifusion::Error naming file, line and column on a missing column, a non-number,
 /// non-finite values or time that does not strictly increase.
-std::vector<GroundTruthState> readGroundTruthStates(const std::filesystem::path& path);
 std::vector<EstimatedState> readEstimatedStates(const std::filesystem::path& path);
-
-/// Writes groundtruth_states.csv (header line starting with '#').
-void writeGroundTruthStates(const std::filesystem::path& path, const std::vector<GroundTruthState>& states);
 
 }  // namespace vifusion::eval

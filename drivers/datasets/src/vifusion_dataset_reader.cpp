@@ -1,0 +1,48 @@
+#include "vifusion/datasets/vifusion_dataset_reader.hpp"
+
+#include <sstream>
+
+#include "tum_layout.hpp"
+#include "vifusion/core/error.hpp"
+#include "vifusion/datasets/euroc_imu.hpp"
+#include "vifusion/datasets/ground_truth_states.hpp"
+#include "vifusion/datasets/kalibr.hpp"
+
+namespace vifusion::datasets {
+
+VifusionDatasetReader::VifusionDatasetReader(const std::filesystem::path& dir)
+    : dir_(dir), decoder_(std::make_unique<detail::ImageDecoder>()) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir_, ec)) throw Error("dataset: '" + dir_.string() + "' is not a directory");
+  calibration_ = readCalibrationYaml(dir_ / "calibration.yaml");
+  frames_ = detail::readTumFrames(dir_);
+  imu_ = readEurocImu(dir_ / "imu.csv");
+  if (std::filesystem::exists(dir_ / "groundtruth.txt", ec)) {
+    ground_truth_ = detail::readTumTrajectory(dir_ / "groundtruth.txt", "groundtruth.txt");
+  }
+  if (std::filesystem::exists(dir_ / "groundtruth_states.csv", ec)) {
+    states_ = readGroundTruthStates(dir_ / "groundtruth_states.csv");
+  }
+}
+
+VifusionDatasetReader::~VifusionDatasetReader() = default;
+
+std::size_t VifusionDatasetReader::frameCount() const { return frames_.size(); }
+
+bool VifusionDatasetReader::nextFrame(RgbdFrame& frame) {
+  if (next_ >= frames_.size()) return false;
+  detail::loadFrame(*decoder_, dir_, frames_[next_], static_cast<std::int64_t>(next_), calibration_, frame);
+  ++next_;
+  return true;
+}
+
+std::string VifusionDatasetReader::describe() const {
+  const PinholeCamera& c = calibration_.camera;
+  std::ostringstream out;
+  out << "vifusion dataset '" << dir_.string() << "': " << frames_.size() << " frames " << c.width << "x" << c.height
+      << ", " << imu_.size() << " IMU samples, " << ground_truth_.size() << " ground-truth poses, " << states_.size()
+      << " ground-truth states, calibration.yaml";
+  return out.str();
+}
+
+}  // namespace vifusion::datasets

@@ -1,0 +1,151 @@
+#include "vifusion/sim/presets.hpp"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <string>
+
+#include "vifusion/core/error.hpp"
+#include "vifusion/core/time.hpp"
+
+namespace vifusion::sim {
+namespace {
+
+using std::numbers::pi;
+
+/// The camera at path time τ: position and where it looks.
+struct CameraAim {
+  Eigen::Vector3d p_W_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d forward_W = Eigen::Vector3d::UnitZ();  ///< viewing direction (need not be unit)
+  double roll_rad = 0.0;                                 ///< about the viewing direction
+};
+
+struct PresetSpec {
+  double duration_s = 0.0;
+  double ramp_s = 0.0;  ///< time over which motion ramps in at the start and out at the end
+  /// The motion as a function of path time τ ∈ [0, duration − ramp].
+  std::function<CameraAim(double tau_s, double tau_total_s)> aim;
+};
+
+/// ∫₀ˣ (6s⁵ − 15s⁴ + 10s³) ds: the integral of smootherstep, so that τ'(t) rises from 0 to 1 with zero
+/// first and second derivatives at both ends and the path's velocity, acceleration and jerk stay continuous.
+double smootherstepIntegral(double x) { return x * x * x * x * (x * x - 3.0 * x + 2.5); }
+
+/// Path time τ(t) with τ' = 0 at t = 0 and t = T, 1 in between; τ(T) = T − ramp.
+double warpedTime(double t_s, double duration_s, double ramp_s) {
+  if (t_s < ramp_s) return ramp_s * smootherstepIntegral(t_s / ramp_s);
+  if (t_s > duration_s - ramp_s)
+    return duration_s - ramp_s - ramp_s * smootherstepIntegral((duration_s - t_s) / ramp_s);
+  return t_s - 0.5 * ramp_s;
+}
+
+/// Heading ψ (0 looks +z, π/2 looks +x) and elevation θ (> 0 looks up) as a direction in the y-up world.
+Eigen::Vector3d direction(double heading_rad, double elevation_rad) {
+  return {std::sin(heading_rad) * std::cos(elevation_rad), std::sin(elevation_rad),
+          std::cos(heading_rad) * std::cos(elevation_rad)};
+}
+
+/// T_W_C with camera z along forward, camera x (right) horizontal, camera y (down) towards the floor.
+SE3d cameraPose(const CameraAim& aim) {
+  const Eigen::Vector3d z_C = aim.forward_W.normalized();
+  const Eigen::Vector3d x_C = z_C.cross(Eigen::Vector3d::UnitY()).normalized();
+  const Eigen::Vector3d y_C = z_C.cross(x_C);
+  Eigen::Matrix3d R_W_C;
+  R_W_C << x_C, y_C, z_C;
+  const Eigen::Quaterniond q_W_C =
+      Eigen::Quaterniond(R_W_C) * Eigen::AngleAxisd(aim.roll_rad, Eigen::Vector3d::UnitZ());
+  return SE3d(q_W_C, aim.p_W_m);
+}
+
+double wave(double amplitude, double frequency_hz, double tau_s, double phase_rad = 0.0) {
+  return amplitude * std::sin(2.0 * pi * frequency_hz * tau_s + phase_rad);
+}
+
+// Hand-held, fast: incommensurate sines in all six degrees of freedom so no two passes repeat, a slow yaw
+// drift so the camera sees every wall.
+CameraAim fastAim(double tau, double /*tau_total*/) {
+  CameraAim aim;
+  aim.p_W_m = {1.1 + wave(0.7, 0.25, tau) + wave(0.08, 0.43, tau, 1.0),
+               1.15 + wave(0.25, 0.33, tau, 0.5) + wave(0.05, 0.41, tau),
+               -0.15 + wave(1.1, 0.17, tau, 0.3) + wave(0.1, 0.45, tau, 2.0)};
+  const double heading = 0.3 * tau + wave(1.0, 0.37, tau) + wave(0.15, 0.45, tau, 0.7);
+  aim.forward_W = direction(heading, wave(0.25, 0.42, tau, 0.4));
+  aim.roll_rad = wave(0.15, 0.35, tau, 1.3);
+  return aim;
+}
+
+// Fast pans: ±2 rad yaw swings at 0.4 Hz (5.0 rad/s peak) with some tilt, position drifting slowly.
+CameraAim quickRotationAim(double tau, double /*tau_total*/) {
+  CameraAim aim;
+  aim.p_W_m = {1.1 + wave(0.4, 0.07, tau), 1.3 + wave(0.15, 0.11, tau, 0.8), -0.2 + wave(0.6, 0.05, tau, 0.2)};
+  const double heading = 0.2 * tau + wave(2.0, 0.4, tau);
+  aim.forward_W = direction(heading, wave(0.3, 0.35, tau, 0.9));
+  aim.roll_rad = wave(0.1, 0.3, tau);
+  return aim;
+}
+
+// One slow pass along the blank x-max wall, looking at it (+x) from x ≈ 2.25 m.
+CameraAim whiteWallAim(double tau, double tau_total) {
+  CameraAim aim;
+  aim.p_W_m = {2.25 + wave(0.03, 0.1, tau), 1.3 + wave(0.1, 0.13, tau),
+               -1.3 + 2.2 * tau / tau_total + wave(0.05, 0.3, tau)};
+  aim.forward_W = direction(0.5 * pi + wave(0.12, 0.11, tau), wave(0.05, 0.07, tau, 0.5));
+  aim.roll_rad = wave(0.03, 0.09, tau);
+  return aim;
+}
+
+// Two laps of an ellipse around the room, looking outward ~60° off the direction of travel. Every term is
+// periodic in the lap angle with a whole number of periods over the two laps, so the path ends on its start
+// pose (a loop closure); the height term has period 4π/3, so the second lap revisits at other heights.
+CameraAim longAim(double tau, double tau_total) {
+  constexpr double kLaps = 2.0;
+  constexpr double kSemiAxisX_m = 1.0;
+  constexpr double kSemiAxisZ_m = 1.55;
+  const double theta = 2.0 * pi * kLaps * tau / tau_total;
+  CameraAim aim;
+  aim.p_W_m = {1.1 + kSemiAxisX_m * std::cos(theta), 1.2 + 0.2 * std::sin(1.5 * theta),
+               -0.15 + kSemiAxisZ_m * std::sin(theta)};
+  const Eigen::Vector3d tangent =
+      Eigen::Vector3d(-kSemiAxisX_m * std::sin(theta), 0.0, kSemiAxisZ_m * std::cos(theta)).normalized();
+  const Eigen::Vector3d outward =
+      Eigen::Vector3d(kSemiAxisZ_m * std::cos(theta), 0.0, kSemiAxisX_m * std::sin(theta)).normalized();
+  const double beta = 1.1 + 0.25 * std::sin(3.0 * theta);
+  aim.forward_W =
+      std::cos(beta) * tangent + std::sin(beta) * outward + Eigen::Vector3d(0.0, 0.1 * std::sin(2.0 * theta), 0.0);
+  aim.roll_rad = 0.05 * std::sin(5.0 * theta);
+  return aim;
+}
+
+PresetSpec spec(std::string_view name) {
+  if (name == "fast") return {20.0, 2.5, fastAim};
+  if (name == "quick_rotation") return {20.0, 2.5, quickRotationAim};
+  if (name == "white_wall") return {20.0, 2.5, whiteWallAim};
+  if (name == "long") return {60.0, 3.0, longAim};
+  std::string known;
+  for (const std::string_view n : presetNames()) known += (known.empty() ? "" : ", ") + std::string(n);
+  throw Error("unknown simulation preset '" + std::string(name) + "' (known: " + known + ")");
+}
+
+}  // namespace
+
+std::vector<std::string_view> presetNames() { return {"fast", "quick_rotation", "white_wall", "long"}; }
+
+std::vector<StampedPose> presetCameraPoses(std::string_view name) {
+  const PresetSpec preset = spec(name);
+  const double tau_total_s = preset.duration_s - preset.ramp_s;
+  const auto frames = static_cast<std::int64_t>(std::llround(preset.duration_s * kPresetFrameRateHz));
+  std::vector<StampedPose> poses;
+  poses.reserve(static_cast<std::size_t>(frames + 1));
+  for (std::int64_t i = 0; i <= frames; ++i) {
+    // round(i·10⁹/30) in integers: the ICL-NUIM stamps (frame/30 s) to the nanosecond.
+    constexpr auto kRate = static_cast<std::int64_t>(kPresetFrameRateHz);
+    const std::int64_t t_ns = (i * kNsPerSecond + kRate / 2) / kRate;
+    const double tau_s = warpedTime(nsToSeconds(t_ns), preset.duration_s, preset.ramp_s);
+    poses.push_back({t_ns, cameraPose(preset.aim(tau_s, tau_total_s))});
+  }
+  return poses;
+}
+
+}  // namespace vifusion::sim

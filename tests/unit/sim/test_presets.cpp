@@ -1,0 +1,130 @@
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "sim_test_utils.hpp"
+#include "vifusion/core/error.hpp"
+#include "vifusion/core/time.hpp"
+#include "vifusion/sim/imu_simulator.hpp"
+#include "vifusion/sim/presets.hpp"
+#include "vifusion/sim/trajectory_fit.hpp"
+#include "vifusion/test/eigen_asserts.hpp"
+
+namespace vifusion::sim {
+namespace {
+
+/// Peak figures of a preset's fitted spline, from an ideal 200 Hz IMU and the spline's camera poses.
+struct PresetFigures {
+  double duration_s = 0.0;
+  double path_length_m = 0.0;
+  double peak_speed_mps = 0.0;
+  double peak_rate_rad_s = 0.0;
+  double peak_gyro_axis_rad_s = 0.0;
+  double peak_accel_axis_mps2 = 0.0;
+  Eigen::Vector3d min_p_W_C = Eigen::Vector3d::Constant(1e9);
+  Eigen::Vector3d max_p_W_C = Eigen::Vector3d::Constant(-1e9);
+  double min_horizontal_view = 1.0;  ///< smallest horizontal share of the viewing direction, √(1 − z_y²)
+};
+
+PresetFigures measure(std::string_view name) {
+  const TrajectoryFit fit = fitTrajectory(presetCameraPoses(name), test::exampleT_S_C());
+  ImuSimOptions options;
+  options.add_noise = false;
+  options.add_biases = false;
+  const ImuSimResult imu = simulateImu(fit.spline_W_S, options);
+  PresetFigures f;
+  f.duration_s = nsToSeconds(fit.spline_W_S.endTimeNs() - fit.spline_W_S.startTimeNs());
+  Eigen::Vector3d previous = imu.states.front().p_W_S;
+  for (std::size_t k = 0; k < imu.samples.size(); ++k) {
+    const GroundTruthState& s = imu.states[k];
+    f.path_length_m += (s.p_W_S - previous).norm();
+    previous = s.p_W_S;
+    f.peak_speed_mps = std::max(f.peak_speed_mps, s.v_W_S.norm());
+    f.peak_rate_rad_s = std::max(f.peak_rate_rad_s, imu.samples[k].gyro_rad_s.norm());
+    f.peak_gyro_axis_rad_s = std::max(f.peak_gyro_axis_rad_s, imu.samples[k].gyro_rad_s.cwiseAbs().maxCoeff());
+    f.peak_accel_axis_mps2 = std::max(f.peak_accel_axis_mps2, imu.samples[k].accel_mps2.cwiseAbs().maxCoeff());
+    const SE3d T_W_C = fit.cameraPose(s.t_ns);
+    f.min_p_W_C = f.min_p_W_C.cwiseMin(T_W_C.translation());
+    f.max_p_W_C = f.max_p_W_C.cwiseMax(T_W_C.translation());
+    const double up_share = (T_W_C.quaternion() * Eigen::Vector3d::UnitZ()).y();
+    f.min_horizontal_view = std::min(f.min_horizontal_view, std::sqrt(1.0 - up_share * up_share));
+  }
+  std::printf(
+      "%-15s %4.0f s, %5.2f m, peak %.2f m/s, %.2f rad/s (axis %.2f), accel axis %.2f m/s², "
+      "camera x [%.2f, %.2f] y [%.2f, %.2f] z [%.2f, %.2f]\n",
+      std::string(name).c_str(), f.duration_s, f.path_length_m, f.peak_speed_mps, f.peak_rate_rad_s,
+      f.peak_gyro_axis_rad_s, f.peak_accel_axis_mps2, f.min_p_W_C.x(), f.max_p_W_C.x(), f.min_p_W_C.y(),
+      f.max_p_W_C.y(), f.min_p_W_C.z(), f.max_p_W_C.z());
+  EXPECT_EQ(imu.gyro_clipped_samples, 0) << name;
+  EXPECT_EQ(imu.accel_clipped_samples, 0) << name;
+  return f;
+}
+
+void expectInsideIclNuimBox(const PresetFigures& f, std::string_view name) {
+  EXPECT_GE(f.min_p_W_C.x(), -0.1) << name;
+  EXPECT_LE(f.max_p_W_C.x(), 2.3) << name;
+  EXPECT_GE(f.min_p_W_C.y(), 0.5) << name;
+  EXPECT_LE(f.max_p_W_C.y(), 1.8) << name;
+  EXPECT_GE(f.min_p_W_C.z(), -1.9) << name;
+  EXPECT_LE(f.max_p_W_C.z(), 1.6) << name;
+  EXPECT_GT(f.min_horizontal_view, 0.9) << name << ": the camera should look mostly horizontally";
+}
+
+TEST(Presets, FastIsHandHeldFast) {
+  const PresetFigures f = measure("fast");
+  expectInsideIclNuimBox(f, "fast");
+  EXPECT_NEAR(f.duration_s, 20.0, 1e-6);
+  EXPECT_GT(f.peak_speed_mps, 1.5);
+  EXPECT_LT(f.peak_speed_mps, 2.2);
+  EXPECT_GT(f.peak_rate_rad_s, 2.5);
+  EXPECT_LT(f.peak_rate_rad_s, 3.5);
+}
+
+TEST(Presets, QuickRotationPansFastBelowSaturation) {
+  const PresetFigures f = measure("quick_rotation");
+  expectInsideIclNuimBox(f, "quick_rotation");
+  EXPECT_GT(f.peak_rate_rad_s, 4.0);
+  EXPECT_LT(f.peak_rate_rad_s, 6.0);
+  EXPECT_LT(f.peak_gyro_axis_rad_s, 7.8 * 0.8);  // margin for other extrinsics
+  EXPECT_LT(f.peak_speed_mps, 0.5);
+}
+
+TEST(Presets, WhiteWallIsASlowPassFacingTheWall) {
+  const PresetFigures f = measure("white_wall");
+  expectInsideIclNuimBox(f, "white_wall");
+  EXPECT_GT(f.min_p_W_C.x(), 2.15);                   // ≈ 1.6 m from the x = 3.85 m wall
+  EXPECT_GT(f.max_p_W_C.z() - f.min_p_W_C.z(), 2.0);  // a pass along it
+  EXPECT_LT(f.peak_speed_mps, 0.3);
+  EXPECT_LT(f.peak_rate_rad_s, 0.3);
+  for (const StampedPose& pose : presetCameraPoses("white_wall")) {
+    const Eigen::Vector3d forward_W = pose.T_world_body.quaternion() * Eigen::Vector3d::UnitZ();
+    EXPECT_GT(forward_W.x(), 0.98);
+  }
+}
+
+TEST(Presets, LongIsAClosedLoopAroundTheRoom) {
+  const PresetFigures f = measure("long");
+  expectInsideIclNuimBox(f, "long");
+  EXPECT_NEAR(f.duration_s, 60.0, 1e-6);
+  EXPECT_GT(f.path_length_m, 15.0);
+  EXPECT_LT(f.path_length_m, 20.0);
+  EXPECT_LT(f.peak_speed_mps, 0.6);
+  const std::vector<StampedPose> poses = presetCameraPoses("long");
+  EXPECT_MATRIX_NEAR(poses.front().T_world_body.matrix(), poses.back().T_world_body.matrix(), 1e-9);
+}
+
+TEST(Presets, AllStartAndEndAtRestAt30Hz) {
+  for (const std::string_view name : presetNames()) {
+    const std::vector<StampedPose> poses = presetCameraPoses(name);
+    EXPECT_EQ(poses[1].t_ns, 33'333'333) << name;
+    EXPECT_EQ(poses[3].t_ns, 100'000'000) << name;
+    EXPECT_LT((poses[1].T_world_body.translation() - poses[0].T_world_body.translation()).norm(), 1e-6) << name;
+    const std::size_t n = poses.size();
+    EXPECT_LT((poses[n - 1].T_world_body.translation() - poses[n - 2].T_world_body.translation()).norm(), 1e-6) << name;
+  }
+  EXPECT_THROW(presetCameraPoses("slow"), Error);
+}
+
+}  // namespace
+}  // namespace vifusion::sim

@@ -1,5 +1,6 @@
 #include "vifusion/eval/state_csv.hpp"
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -90,8 +91,13 @@ class CsvReader {
     return value;
   }
 
-  Eigen::Vector3d vectorAt(std::size_t first) const {
-    return {numberAt(first), numberAt(first + 1), numberAt(first + 2)};
+  /// Indices of the columns <prefix>x, <prefix>y, <prefix>z, each looked up by name.
+  std::array<std::size_t, 3> vectorColumns(const std::string& prefix) const {
+    return {column(prefix + "x"), column(prefix + "y"), column(prefix + "z")};
+  }
+
+  Eigen::Vector3d vectorAt(const std::array<std::size_t, 3>& columns) const {
+    return {numberAt(columns[0]), numberAt(columns[1]), numberAt(columns[2])};
   }
 
   [[noreturn]] void fail(const std::string& what) const {
@@ -115,10 +121,10 @@ class CsvReader {
 std::vector<EstimatedState> readEstimatedStates(const std::filesystem::path& path) {
   CsvReader reader(path);
   const std::size_t t = reader.column("t_ns");
-  const std::size_t v = reader.column("v_W_S_x");
-  const std::size_t bg = reader.column("b_g_x");
-  const std::size_t ba = reader.column("b_a_x");
-  const std::size_t g = reader.column("g_W_x");
+  const auto v = reader.vectorColumns("v_W_S_");
+  const auto bg = reader.vectorColumns("b_g_");
+  const auto ba = reader.vectorColumns("b_a_");
+  const auto g = reader.vectorColumns("g_W_");
   std::vector<EstimatedState> states;
   while (reader.next()) {
     EstimatedState state;

@@ -6,6 +6,7 @@
 
 #include "eval_command.hpp"
 #include "gpu_self_check.hpp"
+#include "sim_command.hpp"
 #include "vifusion/core/error.hpp"
 
 int main(int argc, char** argv) {
@@ -34,10 +35,31 @@ int main(int argc, char** argv) {
   eval_command->add_option("--max-difference", eval.max_difference_s, "ATE association window [s]")->capture_default_str();
   eval_command->add_option("--rpe-delta", eval.rpe_delta_s, "RPE step [s]")->capture_default_str();
 
+  vifusion::cli::SimOptions sim;
+  CLI::App* sim_command = app.add_subcommand(
+      "sim", "Write a synthetic RGB-D-inertial dataset: spline ground truth, simulated IMU, rendered living room");
+  sim_command->add_option("--preset", sim.preset, "living_room_0..3, fast, quick_rotation, white_wall or long");
+  sim_command->add_option("--trajectory", sim.trajectory, "Camera path as a TUM pose file (T_world_camera)");
+  sim_command->add_option("--out", sim.out, "Dataset directory to create")->required();
+  sim_command->add_option("--seed", sim.seed, "Random seed: same seed, same dataset")->capture_default_str();
+  sim_command->add_option("--imu", sim.imu, "IMU noise (Table I column)")->capture_default_str()
+      ->check(CLI::IsMember({"synthetic", "zr300"}));
+  sim_command->add_option("--up", sim.up, "Up axis of the trajectory's world")->capture_default_str()
+      ->check(CLI::IsMember({"y", "z"}));
+  sim_command->add_option("--width", sim.width, "Image width [px], even")->capture_default_str()->check(CLI::Range(16, 4096));
+  sim_command->add_option("--height", sim.height, "Image height [px]")->capture_default_str()->check(CLI::Range(16, 4096));
+  sim_command->add_option("--duration", sim.duration_s, "Only the first seconds (0: whole path)")->capture_default_str();
+  sim_command->add_option("--motion-blur", sim.motion_blur_samples,
+                          "Sub-frame renders per image (-1: 5 for fast presets, else 1)")->capture_default_str();
+  sim_command->add_option("--data-dir", sim.data_dir, "Folder holding icl-nuim-trajectories/ (default: VIFUSION_DATA_DIR)");
+  sim_command->add_flag("!--no-noise", sim.noise, "No image noise and no IMU white noise");
+  sim_command->add_flag("!--no-biases", sim.biases, "No IMU biases");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) return vifusion::cli::runGpuSelfCheck(self_check);
     if (eval_command->parsed()) return vifusion::cli::runEval(eval);
+    if (sim_command->parsed()) return vifusion::cli::runSim(sim);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "vifusion: %s\n", error.what());
     return 2;

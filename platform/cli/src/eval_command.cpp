@@ -11,9 +11,12 @@
 #include "vifusion/core/time.hpp"
 #include "vifusion/datasets/ground_truth_states.hpp"
 #include "vifusion/eval/metrics.hpp"
+#include "vifusion/eval/ply_points.hpp"
+#include "vifusion/eval/reconstruction_error.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/state_errors.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
+#include "vifusion/scene/living_room.hpp"
 
 namespace vifusion::cli {
 namespace {
@@ -121,6 +124,15 @@ int runEval(const EvalOptions& options) {
                         {"gravity_rms_deg", state_errors->gravity_rms_deg},
                         {"gravity_final_deg", state_errors->gravity_final_deg},
                         {"samples", state_errors->series.size()}};
+  }
+
+  if (!options.map.empty()) {
+    // The true surface is the simulator's analytic living room, in the ground truth's world.
+    const scene::LivingRoom room;
+    const eval::ReconstructionError error = eval::reconstructionError(
+        eval::readPlyPositions(options.map), ate.T_gt_est, [&](const Eigen::Vector3d& p_W) { return room.distanceToSurface(p_W); });
+    report["reconstruction"] = {{"mean_m", error.mean_m}, {"median_m", error.median_m}, {"rms_m", error.rms_m},
+                                {"within_1cm", error.within_1cm}, {"points", error.points}};
   }
 
   if (!options.plots_dir.empty()) {

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   eval_command->add_option("--est", eval.est, "Estimated trajectory (TUM format)")->required();
   eval_command->add_option("--states", eval.states, "Estimator states.csv: adds velocity, bias and gravity errors");
   eval_command->add_option("--gt-states", eval.gt_states, "Ground-truth states (default: groundtruth_states.csv beside --gt)");
+  eval_command->add_option("--map", eval.map, "Map PLY: mean distance to the simulator's living room surfaces");
   eval_command->add_option("--plots", eval.plots_dir, "Directory for PNG plots");
   eval_command->add_option("--up", eval.up, "Up axis of the ground truth's world (gravity along -up)")
       ->capture_default_str()->check(CLI::IsMember({"y", "z"}));

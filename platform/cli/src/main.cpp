@@ -6,6 +6,7 @@
 
 #include "eval_command.hpp"
 #include "gpu_self_check.hpp"
+#include "run_command.hpp"
 #include "sim_command.hpp"
 #include "vifusion/core/error.hpp"
 
@@ -14,13 +15,25 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   vifusion::cli::SelfCheckOptions self_check;
+  CLI::App* self_check_command = app.add_subcommand(
+      "selfcheck", "GPU self-check: preprocessing kernels and reduction on a built-in frame, checked against the "
+                   "CPU references, with timings");
+  self_check_command->add_option("--device", self_check.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
+  self_check_command->add_option("--width", self_check.width, "Frame width [px], even")->capture_default_str()->check(CLI::Range(16, 4096));
+  self_check_command->add_option("--height", self_check.height, "Frame height [px]")->capture_default_str()->check(CLI::Range(16, 4096));
+  self_check_command->add_option("--frames", self_check.frames, "Timed repetitions per step")->capture_default_str()->check(CLI::Range(1, 100000));
+
+  vifusion::cli::RunOptions run_options;
   CLI::App* run = app.add_subcommand(
-      "run", "Run the main job. Until the synthetic benchmark sequence lands this is the GPU self-check: "
-             "preprocessing kernels and reduction on a built-in frame, checked against the CPU references");
-  run->add_option("--device", self_check.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
-  run->add_option("--width", self_check.width, "Frame width [px], even")->capture_default_str()->check(CLI::Range(16, 4096));
-  run->add_option("--height", self_check.height, "Frame height [px]")->capture_default_str()->check(CLI::Range(16, 4096));
-  run->add_option("--frames", self_check.frames, "Timed repetitions per step")->capture_default_str()->check(CLI::Range(1, 100000));
+      "run", "Run the pipeline on a source and write trajectory.txt and report.json (default: the synthetic "
+             "living-room sequence, generated on first use)");
+  run->add_option("--source", run_options.source, "sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE or dataset:DIR")
+      ->capture_default_str();
+  run->add_option("--mode", run_options.mode, "rgbd (rgbdi and gyro come with the IMU coupling)")->capture_default_str();
+  run->add_option("--out", run_options.out, "Output directory")->capture_default_str();
+  run->add_option("--device", run_options.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
+  run->add_option("--frames", run_options.max_frames, "Stop after this many frames (0: all)")->capture_default_str();
+  run->add_flag("!--no-photometric", run_options.photometric, "Track with ICP only");
 
   vifusion::cli::EvalOptions eval;
   CLI::App* eval_command = app.add_subcommand(
@@ -58,7 +71,8 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   try {
-    if (run->parsed()) return vifusion::cli::runGpuSelfCheck(self_check);
+    if (self_check_command->parsed()) return vifusion::cli::runGpuSelfCheck(self_check);
+    if (run->parsed()) return vifusion::cli::runPipeline(run_options);
     if (eval_command->parsed()) return vifusion::cli::runEval(eval);
     if (sim_command->parsed()) return vifusion::cli::runSim(sim);
   } catch (const std::exception& error) {

@@ -162,7 +162,7 @@ int runSim(const SimOptions& options) {
       {"motion_blur_samples", blur_samples},
       {"render_frames_per_s", static_cast<double>(frames) / render_s},
       {"wall_time_s", total_s}};
-  std::printf("%s\n", summary.dump().c_str());
+  if (!options.quiet) std::printf("%s\n", summary.dump().c_str());
   return 0;
 }
 

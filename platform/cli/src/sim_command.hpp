@@ -23,6 +23,7 @@ struct SimOptions {
   int motion_blur_samples = -1;  ///< sub-frame renders per image; −1: 5 for fast presets, else none
   bool noise = true;       ///< sensor noise on images and IMU white noise
   bool biases = true;      ///< IMU biases (initial, random walk, static)
+  bool quiet = false;      ///< no summary line on stdout (when another command generates the data)
 };
 
 /// Writes the dataset and prints one JSON line describing it; returns the exit code.

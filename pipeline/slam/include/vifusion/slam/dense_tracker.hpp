@@ -1,0 +1,87 @@
+#pragma once
+// Dense RGB-D tracking on the GPU: preprocesses each frame, then aligns it to a reference view by
+// Gauss-Newton over the ICP and photometric terms, coarse to fine. The two terms are each weighted
+// by their inverse measurement variances inside the kernels (depth noise model, intensity noise), so
+// their normal equations simply add: no hand-tuned λ between them. The reference view is, for now,
+// the previous frame (frame-to-frame odometry); the surfel map's prediction replaces it as soon as
+// the map lands, through the same reference buffers.
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "vifusion/core/pinhole_camera.hpp"
+#include "vifusion/core/se3.hpp"
+#include "vifusion/core/sensor_data.hpp"
+#include "vifusion/gpu/command_sequence.hpp"
+#include "vifusion/gpu/gpu_context.hpp"
+#include "vifusion/gpu/memory_arena.hpp"
+#include "vifusion/preprocess/preprocess_stage.hpp"
+#include "vifusion/tracking/icp_term.hpp"
+#include "vifusion/tracking/photometric_term.hpp"
+
+namespace vifusion::slam {
+
+struct TrackerOptions {
+  int levels = 3;
+  /// Gauss-Newton iterations per level, finest first (ElasticFusion: 10, 5, 4).
+  std::array<int, 3> iterations = {10, 5, 4};
+  /// Stop a level early when the step is below this (translation [m] and rotation [rad]).
+  double converged_step = 1e-5;
+  bool use_photometric = true;
+  tracking::IcpOptions icp;
+  tracking::PhotometricOptions photometric;
+  /// Tracking is lost when fewer than this fraction of valid level-0 pixels are ICP inliers.
+  double min_inlier_fraction = 0.1;
+
+  /// Throws vifusion::Error naming the field out of range.
+  void validate() const;
+};
+
+/// The outcome of aligning one frame.
+struct TrackingResult {
+  SE3d T_ref_cur;            ///< estimated pose of the current camera in the reference camera
+  bool lost = false;         ///< too few inliers or a degenerate system: T_ref_cur is the guess
+  double icp_inliers = 0.0;  ///< level-0 ICP inliers of the last iteration
+  double rgb_inliers = 0.0;  ///< level-0 photometric inliers of the last iteration
+  int iterations = 0;        ///< Gauss-Newton iterations run over all levels
+  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();  ///< last level-0 system (information)
+};
+
+class DenseTracker {
+ public:
+  /// Declares the preprocessing, reference-view and term buffers in `plan`. `depth_scale_m` is the
+  /// metres per raw depth unit of the source.
+  DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, const PinholeCamera& camera, double depth_scale_m,
+               const TrackerOptions& options);
+  ~DenseTracker();
+
+  /// Creates kernels and records every command sequence once.
+  void build(const gpu::MemoryArena& arena);
+
+  /// Uploads and preprocesses a frame (no allocation).
+  void preprocess(const RgbdFrame& frame);
+  /// Aligns the preprocessed frame to the reference view starting from `T_ref_cur_guess`.
+  TrackingResult track(const SE3d& T_ref_cur_guess);
+  /// Makes the current (preprocessed) frame the reference view for the next one.
+  void setReferenceToCurrent();
+
+  const PinholeCamera& camera(int level) const { return stage_->camera(level); }
+  int validPixels() const;
+
+ private:
+  NormalEquations6 evaluate(int level, const SE3d& T_ref_cur, double* icp_inliers, double* rgb_inliers);
+
+  gpu::GpuContext& context_;
+  TrackerOptions options_;
+  std::unique_ptr<preprocess::PreprocessStage> stage_;
+  std::vector<preprocess::LevelBuffers> reference_;  ///< copies of the reference view's maps
+  std::unique_ptr<tracking::IcpTerm> icp_;
+  std::unique_ptr<tracking::PhotometricTerm> photometric_;
+  const gpu::MemoryArena* arena_ = nullptr;
+  std::unique_ptr<gpu::CommandSequence> preprocess_sequence_;
+  std::unique_ptr<gpu::CommandSequence> reference_sequence_;
+  std::vector<std::unique_ptr<gpu::CommandSequence>> level_sequences_;
+};
+
+}  // namespace vifusion::slam

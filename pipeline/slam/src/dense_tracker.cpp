@@ -1,0 +1,147 @@
+#include "vifusion/slam/dense_tracker.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+
+#include "vifusion/core/error.hpp"
+
+namespace vifusion::slam {
+
+void TrackerOptions::validate() const {
+  if (levels < 1 || levels > 3) throw Error("tracker option 'levels' must be 1..3");
+  for (int l = 0; l < levels; ++l) {
+    if (iterations[l] < 0 || iterations[l] > 100) throw Error("tracker option 'iterations' must be 0..100 per level");
+  }
+  if (!(converged_step >= 0.0)) throw Error("tracker option 'converged_step' must be ≥ 0");
+  if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction < 1.0)) {
+    throw Error("tracker option 'min_inlier_fraction' must be in [0, 1)");
+  }
+  icp.validate();
+  photometric.validate();
+}
+
+DenseTracker::DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, const PinholeCamera& camera,
+                           double depth_scale_m, const TrackerOptions& options)
+    : context_(context), options_(options) {
+  options_.validate();
+  preprocess::PreprocessOptions preprocess_options;
+  preprocess_options.camera = camera;
+  preprocess_options.levels = options_.levels;
+  preprocess_options.metric.depth_scale_m = static_cast<float>(depth_scale_m);
+  stage_ = std::make_unique<preprocess::PreprocessStage>(context, plan, preprocess_options);
+  for (int l = 0; l < options_.levels; ++l) {
+    const preprocess::LevelBuffers& current = stage_->level(l);
+    const auto mirror = [&](gpu::BufferId id, const char* what) {
+      return plan.addBuffer("tracker.reference.l" + std::to_string(l) + "." + what, plan.buffers()[id.index].bytes,
+                            gpu::MemoryUse::DeviceLocal);
+    };
+    reference_.push_back({mirror(current.depth_m, "depth"), mirror(current.intensity, "intensity"),
+                          mirror(current.vertices, "vertices"), mirror(current.normals, "normals"),
+                          mirror(current.gradients, "gradients")});
+  }
+  icp_ = std::make_unique<tracking::IcpTerm>(context, plan, options_.levels, options_.icp);
+  photometric_ = std::make_unique<tracking::PhotometricTerm>(context, plan, options_.levels, options_.photometric);
+}
+
+DenseTracker::~DenseTracker() = default;
+
+void DenseTracker::build(const gpu::MemoryArena& arena) {
+  arena_ = &arena;
+  stage_->build(arena);
+  std::vector<tracking::IcpLevelInputs> icp_inputs;
+  std::vector<tracking::PhotometricLevelInputs> photometric_inputs;
+  for (int l = 0; l < options_.levels; ++l) {
+    const preprocess::LevelBuffers& cur = stage_->level(l);
+    const preprocess::LevelBuffers& ref = reference_[l];
+    icp_inputs.push_back({cur.vertices, cur.normals, ref.vertices, ref.normals});
+    photometric_inputs.push_back({cur.vertices, cur.intensity, ref.intensity, ref.gradients, ref.vertices});
+  }
+  icp_->build(arena, icp_inputs);
+  photometric_->build(arena, photometric_inputs);
+
+  preprocess_sequence_ = gpu::CommandSequence::create(context_, "tracker.preprocess");
+  preprocess_sequence_->record([&](gpu::CommandRecorder& recorder) { stage_->record(recorder); });
+  reference_sequence_ = gpu::CommandSequence::create(context_, "tracker.reference");
+  reference_sequence_->record([&](gpu::CommandRecorder& recorder) {
+    for (int l = 0; l < options_.levels; ++l) {
+      const preprocess::LevelBuffers& cur = stage_->level(l);
+      const preprocess::LevelBuffers& ref = reference_[l];
+      for (auto [from, to] : {std::pair{cur.depth_m, ref.depth_m}, std::pair{cur.intensity, ref.intensity},
+                              std::pair{cur.vertices, ref.vertices}, std::pair{cur.normals, ref.normals},
+                              std::pair{cur.gradients, ref.gradients}}) {
+        recorder.copyBuffer(arena.buffer(from), arena.buffer(to), arena.buffer(from).bytes);
+      }
+    }
+    recorder.computeBarrier();
+  });
+  for (int l = 0; l < options_.levels; ++l) {
+    level_sequences_.push_back(gpu::CommandSequence::create(context_, "tracker.level" + std::to_string(l)));
+    level_sequences_.back()->record([&](gpu::CommandRecorder& recorder) {
+      icp_->record(recorder, l);
+      if (options_.use_photometric) photometric_->record(recorder, l);
+    });
+  }
+}
+
+void DenseTracker::preprocess(const RgbdFrame& frame) {
+  stage_->upload(frame.depth.view(), frame.rgb.view());
+  preprocess_sequence_->run();
+}
+
+void DenseTracker::setReferenceToCurrent() { reference_sequence_->run(); }
+
+NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, double* icp_inliers, double* rgb_inliers) {
+  const PinholeCamera& camera = stage_->camera(level);
+  icp_->setPose(level, T_ref_cur, camera);
+  if (options_.use_photometric) photometric_->setPose(level, T_ref_cur, camera);
+  level_sequences_[level]->run();
+  NormalEquations6 sum = icp_->result(level);
+  *icp_inliers = sum.inliers;
+  *rgb_inliers = 0.0;
+  if (options_.use_photometric) {
+    const NormalEquations6 rgb = photometric_->result(level);
+    *rgb_inliers = rgb.inliers;
+    sum += rgb;
+  }
+  return sum;
+}
+
+TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
+  TrackingResult result;
+  result.T_ref_cur = T_ref_cur_guess;
+  SE3d T_ref_cur = T_ref_cur_guess;
+  for (int l = options_.levels - 1; l >= 0; --l) {
+    for (int i = 0; i < options_.iterations[l]; ++i) {
+      const NormalEquations6 system = evaluate(l, T_ref_cur, &result.icp_inliers, &result.rgb_inliers);
+      const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(system.H);
+      if (ldlt.info() != Eigen::Success || system.inliers < 6.0) {
+        result.lost = true;
+        return result;
+      }
+      const Vector6d delta = ldlt.solve(-system.b);
+      if (!delta.allFinite()) {
+        result.lost = true;
+        return result;
+      }
+      T_ref_cur = SE3d::exp(delta) * T_ref_cur;
+      ++result.iterations;
+      if (l == 0) result.H = system.H;
+      if (delta.head<3>().norm() < options_.converged_step && delta.tail<3>().norm() < options_.converged_step) break;
+    }
+  }
+  // Health: the final level-0 ICP inliers against the frame's valid pixels.
+  if (result.icp_inliers < options_.min_inlier_fraction * validPixels()) {
+    result.lost = true;
+    return result;
+  }
+  result.T_ref_cur = T_ref_cur;
+  return result;
+}
+
+int DenseTracker::validPixels() const {
+  // The image size, not the frame's count of valid depth pixels (which would need a readback): the
+  // health threshold is a fraction of the image, and sparse depth images need a lower fraction.
+  return stage_->camera(0).width * stage_->camera(0).height;
+}
+
+}  // namespace vifusion::slam

@@ -1,0 +1,109 @@
+#include "run_command.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "progress_bar.hpp"
+#include "sim_command.hpp"
+#include "vifusion/core/error.hpp"
+#include "vifusion/datasets/dataset_reader.hpp"
+#include "vifusion/eval/metrics.hpp"
+#include "vifusion/eval/trajectory_io.hpp"
+#include "vifusion/slam/rgbd_odometry.hpp"
+
+namespace vifusion::cli {
+namespace {
+
+/// A `sim:NAME` source is generated once into <out>/sim_NAME and reused by later runs.
+std::string datasetSpec(const RunOptions& options) {
+  if (options.source.rfind("sim:", 0) != 0) return options.source;
+  const std::string preset = options.source.substr(4);
+  const std::filesystem::path dir = std::filesystem::path(options.out) / ("sim_" + preset);
+  if (!std::filesystem::exists(dir / "rgb.txt")) {
+    std::filesystem::remove_all(dir);  // an interrupted earlier generation
+    SimOptions sim;
+    sim.preset = preset;
+    sim.out = dir.string();
+    sim.quiet = true;
+    runSim(sim);
+  }
+  return "dataset:" + dir.string();
+}
+
+double mean(double sum, int count) { return count > 0 ? sum / count : 0.0; }
+
+}  // namespace
+
+int runPipeline(const RunOptions& options) {
+  if (options.mode != "rgbd") {
+    throw Error("--mode '" + options.mode + "' is not available yet (rgbdi and gyro come with the IMU coupling)");
+  }
+  std::filesystem::create_directories(options.out);
+  const auto reader = datasets::openDataset(datasetSpec(options));
+
+  gpu::GpuOptions gpu_options;
+  gpu_options.device = options.device;
+  const auto context = gpu::GpuContext::create(gpu_options.withEnvironment());
+  slam::TrackerOptions tracker_options;
+  tracker_options.use_photometric = options.photometric;
+  slam::RgbdOdometry pipeline(*context, reader->calibration(), tracker_options);
+
+  const std::size_t total = options.max_frames > 0 ? std::min<std::size_t>(options.max_frames, reader->frameCount())
+                                                   : reader->frameCount();
+  std::vector<eval::StampedPose> trajectory;
+  trajectory.reserve(total);
+  RgbdFrame frame;
+  int lost = 0;
+  double preprocess_ms = 0.0, tracking_ms = 0.0, iterations = 0.0;
+  ProgressBar progress("tracking", static_cast<int64_t>(total));
+  const auto start = std::chrono::steady_clock::now();
+  while (trajectory.size() < total && reader->nextFrame(frame)) {
+    const slam::FrameResult result = pipeline.process(frame);
+    trajectory.push_back({result.t_ns, result.T_W_C});
+    lost += result.lost ? 1 : 0;
+    preprocess_ms += result.preprocess_ms;
+    tracking_ms += result.tracking_ms;
+    iterations += result.iterations;
+    progress.update(static_cast<int64_t>(trajectory.size()));
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  // Written to a temporary name and renamed: an interrupted run never leaves a truncated file.
+  const std::filesystem::path trajectory_path = std::filesystem::path(options.out) / "trajectory.txt";
+  eval::writeTum(trajectory_path.string() + ".tmp", trajectory);
+  std::filesystem::rename(trajectory_path.string() + ".tmp", trajectory_path);
+
+  const int frames = static_cast<int>(trajectory.size());
+  nlohmann::json report = {
+      {"source", options.source},
+      {"dataset", reader->describe()},
+      {"mode", options.mode},
+      {"device", context->features().device_name},
+      {"frames", frames},
+      {"lost_frames", lost},
+      {"ms_per_frame", {{"preprocess", mean(preprocess_ms, frames)}, {"tracking", mean(tracking_ms, frames)}}},
+      {"gauss_newton_iterations_per_frame", mean(iterations, frames)},
+      {"frames_per_s", frames / wall_s},
+      {"arena_bytes", pipeline.arenaBytes()}};
+  if (!reader->groundTruth().empty() && frames >= 3) {
+    std::vector<eval::StampedPose> ground_truth;
+    for (const datasets::StampedPose& pose : reader->groundTruth()) ground_truth.push_back({pose.t_ns, pose.T_world_body});
+    const eval::AteResult ate = eval::ate(ground_truth, trajectory);
+    report["ate_rmse_m"] = ate.rmse_m;
+  }
+  const std::filesystem::path report_path = std::filesystem::path(options.out) / "report.json";
+  {
+    std::FILE* file = std::fopen((report_path.string() + ".tmp").c_str(), "w");
+    if (file == nullptr) throw Error(report_path.string() + ".tmp: cannot be written");
+    std::fprintf(file, "%s\n", report.dump(2).c_str());
+    if (std::fclose(file) != 0) throw Error(report_path.string() + ": write failed");
+  }
+  std::filesystem::rename(report_path.string() + ".tmp", report_path);
+  std::printf("%s\n", report.dump().c_str());
+  return 0;
+}
+
+}  // namespace vifusion::cli

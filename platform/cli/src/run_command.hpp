@@ -1,0 +1,21 @@
+#pragma once
+// `vifusion run`: the main job. Opens a source (a dataset spec, or `sim:NAME`, which generates the
+// synthetic sequence first), runs the pipeline on every frame and writes trajectory.txt (TUM) and
+// report.json into the output directory.
+
+#include <string>
+
+namespace vifusion::cli {
+
+struct RunOptions {
+  std::string source = "sim:living_room_0";  ///< sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR
+  std::string mode = "rgbd";                 ///< rgbd (rgbdi and gyro arrive with the IMU coupling)
+  std::string out = "vifusion_out";          ///< output directory
+  std::string device;                        ///< GPU name filter
+  int max_frames = 0;                        ///< > 0: stop after this many frames
+  bool photometric = true;                   ///< use the photometric term besides ICP
+};
+
+int runPipeline(const RunOptions& options);
+
+}  // namespace vifusion::cli

@@ -40,8 +40,9 @@ void main() {
   const float space_coeff = 0.5 / (params.sigma_space_px * params.sigma_space_px);  // 1/(2σ_s²) [1/px²]
   const float range_coeff = 0.5 / (params.sigma_range_m * params.sigma_range_m);    // 1/(2σ_r²) [1/m²]
   const int r = params.radius_px;
+  const float inverse_centre = 1.0 / centre_m;
   float weight_sum = 0.0;
-  float weighted_depth_sum = 0.0;
+  float weighted_inverse_sum = 0.0;
   for (int dy = -r; dy <= r; ++dy) {
     const int y = pixel.y + dy;
     if (y < 0 || y >= params.height) continue;
@@ -50,12 +51,15 @@ void main() {
       if (x < 0 || x >= params.width) continue;
       const float d_m = depth_in[pixelIndex(ivec2(x, y), params.width)];
       if (!isValidDepth(d_m)) continue;
-      const float diff_m = d_m - centre_m;
+      // Depth difference seen from the centre's depth: z_c²·(1/d − 1/z_c), symmetric for symmetric
+      // neighbours on a plane (inverse depth is linear in (u, v) there).
+      const float inverse_d = 1.0 / d_m;
+      const float diff_m = centre_m * centre_m * (inverse_d - inverse_centre);
       // One exp of the summed exponents (the centre contributes weight exp(0) = 1, so the sum is ≥ 1).
       const float weight = exp(-(float(dx * dx + dy * dy) * space_coeff) - (diff_m * diff_m) * range_coeff);
       weight_sum += weight;
-      weighted_depth_sum += weight * d_m;
+      weighted_inverse_sum += weight * inverse_d;
     }
   }
-  depth_out[centre] = weighted_depth_sum / weight_sum;
+  depth_out[centre] = weight_sum / weighted_inverse_sum;
 }

@@ -34,6 +34,7 @@ layout(std430, binding = 5) restrict writeonly buffer Partials { float partials[
 void neAddItem(inout float acc[NE_TERMS], int i) {
   const vec4 p = cur_vertices[i];
   if (!(p.z > 0.0)) return;
+  neCountCandidate(acc);
   const vec3 q = vec3(dot(params.T_ref_cur_rows[0], vec4(p.xyz, 1.0)), dot(params.T_ref_cur_rows[1], vec4(p.xyz, 1.0)),
                       dot(params.T_ref_cur_rows[2], vec4(p.xyz, 1.0)));
   if (!(q.z > 0.0)) return;

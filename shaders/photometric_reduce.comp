@@ -36,6 +36,7 @@ layout(std430, binding = 6) restrict writeonly buffer Partials { float partials[
 void neAddItem(inout float acc[NE_TERMS], int i) {
   const vec4 p = cur_vertices[i];
   if (!(p.z > 0.0)) return;
+  neCountCandidate(acc);
   const vec4 p1 = vec4(p.xyz, 1.0);
   const vec3 q = vec3(dot(params.T_ref_cur_rows[0], p1), dot(params.T_ref_cur_rows[1], p1),
                       dot(params.T_ref_cur_rows[2], p1));

@@ -19,6 +19,7 @@ void neAddItem(inout float acc[NE_TERMS], int row) {
   const vec4 a = rows[2 * row];
   const vec4 b = rows[2 * row + 1];
   const float J[6] = float[6](a.x, a.y, a.z, a.w, b.x, b.y);
+  neCountCandidate(acc);
   neAccumulate(acc, J, b.z, b.w);
 }
 

@@ -28,8 +28,9 @@ void bilateralDepthCpu(ImageView<const float> depth_m, const BilateralDepthParam
         filtered_m(x0, y0) = 0.0f;
         continue;
       }
+      const float inverse_centre = 1.0f / centre_m;
       float weight_sum = 0.0f;
-      float weighted_depth_sum = 0.0f;
+      float weighted_inverse_sum = 0.0f;
       for (int dy = -r; dy <= r; ++dy) {
         const int y = y0 + dy;
         if (y < 0 || y >= params.height) continue;
@@ -38,14 +39,15 @@ void bilateralDepthCpu(ImageView<const float> depth_m, const BilateralDepthParam
           if (x < 0 || x >= params.width) continue;
           const float d_m = depth_m(x, y);
           if (!(d_m > 0.0f)) continue;
-          const float diff_m = d_m - centre_m;
+          const float inverse_d = 1.0f / d_m;
+          const float diff_m = centre_m * centre_m * (inverse_d - inverse_centre);
           const float weight =
               std::exp(-(static_cast<float>(dx * dx + dy * dy) * space_coeff) - (diff_m * diff_m) * range_coeff);
           weight_sum += weight;
-          weighted_depth_sum += weight * d_m;
+          weighted_inverse_sum += weight * inverse_d;
         }
       }
-      filtered_m(x0, y0) = weighted_depth_sum / weight_sum;
+      filtered_m(x0, y0) = weight_sum / weighted_inverse_sum;
     }
   }
 }

@@ -9,6 +9,7 @@ NormalEquations6& NormalEquations6::operator+=(const NormalEquations6& other) {
   b += other.b;
   weighted_squared_residual += other.weighted_squared_residual;
   inliers += other.inliers;
+  candidates += other.candidates;
   return *this;
 }
 
@@ -37,6 +38,7 @@ void NormalEquations6::addPartials(std::span<const float> partials, uint32_t gro
   for (int i = 0; i < 6; ++i) b(i) += sums[21 + i];
   weighted_squared_residual += sums[27];
   inliers += sums[28];
+  candidates += sums[29];
 }
 
 }  // namespace vifusion

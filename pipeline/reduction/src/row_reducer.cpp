@@ -10,6 +10,7 @@ NormalEquations6 reduceRowsCpu(std::span<const ResidualRow> rows) {
   for (const ResidualRow& row : rows) {
     Eigen::Matrix<double, 6, 1> J;
     for (int i = 0; i < 6; ++i) J(i) = row.J[i];
+    sum.addCandidate();
     sum.addRow(J, row.r, row.w);
   }
   return sum;

@@ -90,17 +90,18 @@ void DenseTracker::preprocess(const RgbdFrame& frame) {
 
 void DenseTracker::setReferenceToCurrent() { reference_sequence_->run(); }
 
-NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, double* icp_inliers, double* rgb_inliers) {
+NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics) {
   const PinholeCamera& camera = stage_->camera(level);
   icp_->setPose(level, T_ref_cur, camera);
   if (options_.use_photometric) photometric_->setPose(level, T_ref_cur, camera);
   level_sequences_[level]->run();
   NormalEquations6 sum = icp_->result(level);
-  *icp_inliers = sum.inliers;
-  *rgb_inliers = 0.0;
+  statistics.icp_inliers = sum.inliers;
+  statistics.icp_candidates = sum.candidates;
+  statistics.rgb_inliers = 0.0;
   if (options_.use_photometric) {
     const NormalEquations6 rgb = photometric_->result(level);
-    *rgb_inliers = rgb.inliers;
+    statistics.rgb_inliers = rgb.inliers;
     sum += rgb;
   }
   return sum;
@@ -112,7 +113,7 @@ TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
   SE3d T_ref_cur = T_ref_cur_guess;
   for (int l = options_.levels - 1; l >= 0; --l) {
     for (int i = 0; i < options_.iterations[l]; ++i) {
-      const NormalEquations6 system = evaluate(l, T_ref_cur, &result.icp_inliers, &result.rgb_inliers);
+      const NormalEquations6 system = evaluate(l, T_ref_cur, result);
       const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(system.H);
       if (ldlt.info() != Eigen::Success || system.inliers < 6.0) {
         result.lost = true;
@@ -129,19 +130,13 @@ TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
       if (delta.head<3>().norm() < options_.converged_step && delta.tail<3>().norm() < options_.converged_step) break;
     }
   }
-  // Health: the final level-0 ICP inliers against the frame's valid pixels.
-  if (result.icp_inliers < options_.min_inlier_fraction * validPixels()) {
+  // Health: the share of the frame's valid level-0 pixels that the final iteration kept as inliers.
+  if (result.icp_inliers < options_.min_inlier_fraction * result.icp_candidates) {
     result.lost = true;
     return result;
   }
   result.T_ref_cur = T_ref_cur;
   return result;
-}
-
-int DenseTracker::validPixels() const {
-  // The image size, not the frame's count of valid depth pixels (which would need a readback): the
-  // health threshold is a fraction of the image, and sparse depth images need a lower fraction.
-  return stage_->camera(0).width * stage_->camera(0).height;
 }
 
 }  // namespace vifusion::slam

@@ -21,6 +21,7 @@ NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> 
     for (int x = 0; x < params.width; ++x) {
       const Vector4f& p = current_vertices(x, y);
       if (!(p.z() > 0.0f)) continue;
+      sum.addCandidate();
       const Vector4f p1(p.x(), p.y(), p.z(), 1.0f);
       const Vector3f q(rows[0].dot(p1), rows[1].dot(p1), rows[2].dot(p1));
       if (!(q.z() > 0.0f)) continue;

@@ -24,6 +24,7 @@ NormalEquations6 photometricNormalEquationsCpu(ImageView<const preprocess::Verte
     for (int px = 0; px < params.width; ++px) {
       const Vector4f& p = current_vertices(px, py);
       if (!(p.z() > 0.0f)) continue;
+      sum.addCandidate();
       const Vector4f p1(p.x(), p.y(), p.z(), 1.0f);
       const Vector3f q(rows[0].dot(p1), rows[1].dot(p1), rows[2].dot(p1));
       if (!(q.z() > 0.0f)) continue;

@@ -6,6 +6,8 @@
 //   [21..26] Jᵀ W r
 //   [27]     Σ w r²
 //   [28]     number of rows with w > 0 (inliers)
+//   [29]     number of candidates: items with valid input, whether or not a gate accepted them
+//            (the denominator of tracking-health ratios)
 // The workgroup then reduces them to one partial of NE_STRIDE floats at partials[group * NE_STRIDE];
 // the host sums the partials in double, so fp32 only ever adds one workgroup's share.
 //
@@ -19,7 +21,7 @@
 #ifndef VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL
 #define VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL
 
-#define NE_TERMS 29
+#define NE_TERMS 30
 #define NE_STRIDE 32
 
 #if VIFUSION_SUBGROUP_REDUCE
@@ -30,6 +32,8 @@
 void neClear(out float acc[NE_TERMS]) {
   for (int k = 0; k < NE_TERMS; ++k) acc[k] = 0.0;
 }
+
+void neCountCandidate(inout float acc[NE_TERMS]) { acc[29] += 1.0; }
 
 void neAccumulate(inout float acc[NE_TERMS], float J[6], float r, float w) {
   if (!(w > 0.0)) return;

@@ -38,11 +38,15 @@ TEST(BilateralDepth, ConstantImageIsUnchangedEverywhere) {
   }
 }
 
-TEST(BilateralDepth, PlanarRampIsUnchangedInTheInterior) {
-  // Both weights are symmetric under (dx, dy) → (−dx, −dy) on a plane, so the weighted mean is the
-  // centre value wherever the whole window lies inside the image.
+TEST(BilateralDepth, PerspectivePlaneIsUnchangedInTheInterior) {
+  // Under perspective a plane's inverse depth is linear in (u, v). The filter averages inverse depth
+  // with weights symmetric under (dx, dy) → (−dx, −dy) on such a plane, so the result is the centre
+  // value wherever the whole window lies inside the image: no bias on slanted surfaces (averaging
+  // depth itself would bend them, since depth is convex in (u, v), and bias the ICP).
   Image<float> depth(30, 28);
-  const auto plane = [](int x, int y) { return 1.0f + 0.002f * static_cast<float>(x) + 0.001f * static_cast<float>(y); };
+  const auto plane = [](int x, int y) {
+    return 1.0f / (0.8f - 0.012f * static_cast<float>(x) + 0.006f * static_cast<float>(y));
+  };
   fillImage(depth, plane);
   Image<float> out(30, 28);
   const BilateralDepthParams params = paramsFor(depth);
@@ -88,10 +92,18 @@ TEST(BilateralDepth, TwoValidPixelsGiveTheWeightedMean) {
   const BilateralDepthParams params = paramsFor(depth);
   bilateralDepthCpu(depth.view(), params, out.view());
 
-  const double diff = static_cast<double>(1.01f) - 1.0;
-  const double w = std::exp(-1.0 / (2.0 * 4.5 * 4.5) - diff * diff / (2.0 * 0.03 * 0.03));
-  EXPECT_NEAR(out(4, 1), (1.0 + w * 1.01) / (1.0 + w), 1e-6);
-  EXPECT_NEAR(out(5, 1), (1.01 + w * 1.0) / (1.0 + w), 1e-6);
+  // Weights use the difference as seen from the centre, z_c²·(1/d − 1/z_c); the mean is taken of
+  // inverse depth.
+  const double d0 = 1.0;
+  const double d1 = static_cast<double>(1.01f);
+  const auto weight = [](double centre, double other) {
+    const double diff = centre * centre * (1.0 / other - 1.0 / centre);
+    return std::exp(-1.0 / (2.0 * 4.5 * 4.5) - diff * diff / (2.0 * 0.03 * 0.03));
+  };
+  const double w0 = weight(d0, d1);
+  const double w1 = weight(d1, d0);
+  EXPECT_NEAR(out(4, 1), (1.0 + w0) / (1.0 / d0 + w0 / d1), 1e-6);
+  EXPECT_NEAR(out(5, 1), (1.0 + w1) / (1.0 / d1 + w1 / d0), 1e-6);
   EXPECT_EQ(out(3, 1), 0.0f);
 }
 
@@ -115,7 +127,8 @@ TEST(BilateralDepth, RadiusZeroIsTheIdentity) {
   params.radius_px = 0;
   bilateralDepthCpu(depth.view(), params, out.view());
   for (int y = 0; y < 5; ++y) {
-    for (int x = 0; x < 6; ++x) EXPECT_EQ(out(x, y), depth(x, y));
+    // The mean is of inverse depth: 1/(1/z) returns z to within an ULP.
+    for (int x = 0; x < 6; ++x) EXPECT_FLOAT_EQ(out(x, y), depth(x, y));
   }
 }
 

@@ -74,6 +74,8 @@ class PreprocessStage {
   const PinholeCamera& camera(int level) const { return cameras_[level]; }
   /// Unfiltered metric depth of level 0 (surfel positions come from it).
   gpu::BufferId rawDepth() const { return raw_depth_m_; }
+  /// The packed RGB888 upload buffer (surfel colours are read from it).
+  gpu::BufferId rgbWords() const { return rgb_words_; }
   const LevelBuffers& level(int level) const { return levels_[level]; }
 
  private:

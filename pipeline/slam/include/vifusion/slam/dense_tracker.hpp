@@ -31,8 +31,9 @@ struct TrackerOptions {
   bool use_photometric = true;
   tracking::IcpOptions icp;
   tracking::PhotometricOptions photometric;
-  /// Tracking is lost when fewer than this fraction of valid level-0 pixels are ICP inliers.
-  double min_inlier_fraction = 0.1;
+  /// Tracking is lost when fewer than this fraction of the level-0 pixels with valid depth end up
+  /// as ICP inliers (the rest fell outside the reference view or failed the gates).
+  double min_inlier_fraction = 0.2;
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -42,7 +43,8 @@ struct TrackerOptions {
 struct TrackingResult {
   SE3d T_ref_cur;            ///< estimated pose of the current camera in the reference camera
   bool lost = false;         ///< too few inliers or a degenerate system: T_ref_cur is the guess
-  double icp_inliers = 0.0;  ///< level-0 ICP inliers of the last iteration
+  double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
+  double icp_candidates = 0.0;  ///< level-0 pixels with valid depth (the inliers' denominator)
   double rgb_inliers = 0.0;  ///< level-0 photometric inliers of the last iteration
   int iterations = 0;        ///< Gauss-Newton iterations run over all levels
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();  ///< last level-0 system (information)
@@ -67,10 +69,9 @@ class DenseTracker {
   void setReferenceToCurrent();
 
   const PinholeCamera& camera(int level) const { return stage_->camera(level); }
-  int validPixels() const;
 
  private:
-  NormalEquations6 evaluate(int level, const SE3d& T_ref_cur, double* icp_inliers, double* rgb_inliers);
+  NormalEquations6 evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics);
 
   gpu::GpuContext& context_;
   TrackerOptions options_;

@@ -1,0 +1,60 @@
+#pragma once
+// Map maintenance on the CPU: the references of map_cleanup.comp (same float arithmetic, so keep
+// flags agree exactly) and of the prefix-sum compaction (map_compact_*.comp), plus the parameter
+// block and counters the kernels share with the host (std430 mirrors of
+// shaders/include/map/cleanup.glsl).
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "vifusion/core/image.hpp"
+#include "vifusion/map/prediction_cpu.hpp"
+#include "vifusion/map/surfel.hpp"
+
+namespace vifusion::map {
+
+/// CleanupParams in cleanup.glsl; map_cleanup.comp documents each rule.
+struct CleanupParams {
+  MapView view;                              ///< pose and frame of the index map
+  float confidence_threshold = 0;            ///< stable when confidence ≥ this
+  std::uint32_t time_window_frames = 0;      ///< δ_t: active when updated within this many frames
+  std::uint32_t unstable_max_age_frames = 0; ///< unstable surfels not updated for longer are removed
+  float max_depth_m = 0;                     ///< free-space test only within this depth [m]
+  float free_space_margin_m = 0;             ///< neighbours must lie this far behind [m]
+  float facing_min_abs_nz = 0;               ///< the surfel must face the camera: |n_C.z| > this
+  std::uint32_t free_space_min_neighbours = 0;  ///< removed when ≥ this many neighbours agree
+  std::uint32_t full_count = 0;              ///< the map is full when surfel_count > this
+  float eviction_confidence = 0;             ///< when full, inactive surfels below this go
+  std::uint32_t pad[3] = {};
+};
+static_assert(sizeof(CleanupParams) == 144);
+static_assert(offsetof(CleanupParams, confidence_threshold) == 96);
+static_assert(offsetof(CleanupParams, full_count) == 124);
+static_assert(offsetof(CleanupParams, eviction_confidence) == 128);
+
+/// Counters of one maintenance pass (VIFUSION_MAINTENANCE_STATS_MEMBERS in cleanup.glsl).
+struct MaintenanceStats {
+  std::uint32_t kept = 0;                ///< surfels after compaction
+  std::uint32_t removed_unstable = 0;    ///< unstable and not updated for too long
+  std::uint32_t removed_free_space = 0;  ///< seen through this frame
+  std::uint32_t evicted_when_full = 0;   ///< inactive, low-confidence, map over its full mark
+  bool operator==(const MaintenanceStats&) const = default;
+};
+static_assert(sizeof(MaintenanceStats) == 16);
+
+/// Keep flags (1 keep, 0 remove) of `surfels` (the live ones); `keep` has surfels.size() entries.
+/// index_depth/index_id: the level-0 index map (float bits of camera depth; surfel index + 1, 0 =
+/// none). Fills the removal counters of `stats` (kept is left to compaction).
+void cleanupCpu(std::span<const Surfel> surfels, const CleanupParams& params, ImageView<const std::uint32_t> index_depth,
+                ImageView<const std::uint32_t> index_id, std::span<std::uint32_t> keep, MaintenanceStats& stats);
+
+/// Exclusive prefix sum of `values` into `offsets` (same size); returns the total.
+std::uint32_t exclusiveScanCpu(std::span<const std::uint32_t> values, std::span<std::uint32_t> offsets);
+
+/// Stable compaction: the surfels with keep ≠ 0, in order, to the front of `destination`
+/// (≥ surfels.size() entries); returns how many.
+std::uint32_t compactCpu(std::span<const Surfel> surfels, std::span<const std::uint32_t> keep,
+                         std::span<Surfel> destination);
+
+}  // namespace vifusion::map

@@ -1,0 +1,96 @@
+#pragma once
+// Model prediction on the GPU (DESIGN.md §4.4): the active, stable surfels of the map splatted as
+// disks into the camera at pose T_C_W, giving the camera-frame vertex, normal and intensity maps
+// the tracking terms align the next frame against, at every pyramid level.
+//
+// Per frame, recorded once per surfel-array parity:
+//   clear → map_predict_depth (atomicMin of depth bits) → map_predict_id (atomicMin of the index
+//   among surfels at the minimum depth) → map_predict_attributes (the winner writes level 0) →
+//   map_pyramid_subsample (levels ≥ 1 sample level 0 at 2^l·(x, y)).
+// Which surfels are rendered and how a disk is splatted: shaders/include/map/prediction.glsl.
+// The pose and frame live in a host-written parameter buffer (setView), so nothing is re-recorded.
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "vifusion/core/pinhole_camera.hpp"
+#include "vifusion/core/se3.hpp"
+#include "vifusion/gpu/capacity_plan.hpp"
+#include "vifusion/gpu/command_sequence.hpp"
+#include "vifusion/gpu/compute_kernel.hpp"
+#include "vifusion/gpu/gpu_context.hpp"
+#include "vifusion/gpu/memory_arena.hpp"
+#include "vifusion/map/map_buffers.hpp"
+#include "vifusion/map/prediction_cpu.hpp"
+
+namespace vifusion::map {
+
+struct PredictionOptions {
+  int levels = 3;  ///< pyramid levels of the model maps, as the preprocessing pyramids
+  /// Before this frame every active surfel is rendered, stable or not: a surfel gains at most 1
+  /// confidence per frame, so none can be stable before frame confidence_threshold and tracking
+  /// would have no model. 20 frames (≈ 0.7 s at 30 Hz) leaves time for the first surfels to
+  /// reach the default threshold of 10 even when seen off-centre (weight ≈ 0.5 per frame).
+  std::uint32_t young_map_frames = 20;
+  float min_depth_m = 0.1f;           ///< surfel centres nearer than this are not rendered [m]
+  int max_half_footprint_px = 3;      ///< a disk covers at most 7 × 7 px
+  std::uint32_t surfel_workgroups = 512;      ///< workgroups of the grid-stride splat passes
+  std::uint32_t surfel_workgroup_size = 128;  ///< invocations per splat workgroup
+  std::uint32_t image_workgroup_size = 16;    ///< square workgroups of the per-pixel passes
+
+  /// Throws vifusion::Error naming the field that is out of range.
+  void validate() const;
+};
+
+/// Model maps of one pyramid level (device-local, row-major, camera frame).
+struct ModelLevelBuffers {
+  gpu::BufferId vertices;   ///< vec4 (x, y, z, 1) [m], vec4(0) = no model
+  gpu::BufferId normals;    ///< vec4 (n, 1), facing the camera, vec4(0) = no model
+  gpu::BufferId intensity;  ///< float 0..255, 0 = no model
+};
+
+class ModelPrediction {
+ public:
+  /// Declares the parameter, splat and model-map buffers. `camera`: level-0 intrinsics, the size of
+  /// the map's index map. Throws vifusion::Error on bad options or a size mismatch.
+  ModelPrediction(gpu::GpuContext& context, gpu::CapacityPlan& plan, const MapBuffers& map, const PinholeCamera& camera,
+                  const PredictionOptions& options = {});
+  ~ModelPrediction();
+
+  /// Creates the kernels and writes their bindings (one set per surfel-array parity).
+  void build(const gpu::MemoryArena& arena);
+
+  /// The parameters a prediction at T_C_W in frame `frame` uses (also the CPU reference's input).
+  PredictionParams makeParams(const SE3d& T_C_W, std::uint32_t frame) const;
+  /// Writes them for the next submission (host, no allocation).
+  void setView(const SE3d& T_C_W, std::uint32_t frame) const;
+
+  /// Records the prediction from surfel array `parity` (MapBuffers::current() when it runs),
+  /// ending with a compute barrier that makes the model maps visible to later kernels and copies.
+  void record(gpu::CommandRecorder& recorder, int parity) const;
+
+  int levels() const { return options_.levels; }
+  const PinholeCamera& camera(int level) const { return cameras_.at(static_cast<std::size_t>(level)); }
+  const ModelLevelBuffers& level(int level) const { return levels_.at(static_cast<std::size_t>(level)); }
+  gpu::BufferId splatDepthBits() const { return depth_bits_; }  ///< uint per level-0 pixel
+  gpu::BufferId splatIds() const { return ids_; }               ///< uint per level-0 pixel, kNoSurfel = none
+
+ private:
+  struct Kernels;
+
+  gpu::GpuContext& context_;
+  PredictionOptions options_;
+  MapOptions map_options_;
+  gpu::BufferId surfels_[2];
+  gpu::BufferId state_;
+  std::vector<PinholeCamera> cameras_;
+  gpu::BufferId params_;
+  gpu::BufferId depth_bits_;
+  gpu::BufferId ids_;
+  std::vector<ModelLevelBuffers> levels_;
+  const gpu::MemoryArena* arena_ = nullptr;
+  std::unique_ptr<Kernels> kernels_;
+};
+
+}  // namespace vifusion::map

@@ -1,0 +1,183 @@
+#include "vifusion/map/map_maintenance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+
+#include "vifusion/core/error.hpp"
+#include "vifusion/shaders/spirv.hpp"
+
+namespace vifusion::map {
+namespace {
+
+std::string field(const char* name) { return std::string("maintenance option '") + name + "'"; }
+
+/// Workgroup size of map_compact_scan; each invocation scans 4 elements.
+constexpr std::uint32_t kScanWorkgroupSize = kCompactTileSize / 4;
+
+std::uint32_t tilesOf(std::uint32_t n) { return std::max(1u, (n + kCompactTileSize - 1) / kCompactTileSize); }
+
+/// Push constants of map_compact_scan.comp and map_compact_add.comp.
+struct LevelPush {
+  std::uint32_t level = 0;
+};
+
+}  // namespace
+
+void MaintenanceOptions::validate() const {
+  if (!(free_space_margin_m >= 0.0f)) throw Error(field("free_space_margin_m") + " must be ≥ 0");
+  if (!(facing_min_abs_nz >= 0.0f && facing_min_abs_nz < 1.0f)) throw Error(field("facing_min_abs_nz") + " must be in [0, 1)");
+  if (free_space_min_neighbours == 0 || free_space_min_neighbours > 8) {
+    throw Error(field("free_space_min_neighbours") + " must be in 1..8 (other surfels of a 3×3 window)");
+  }
+  if (!(full_fraction > 0.0f && full_fraction <= 1.0f)) throw Error(field("full_fraction") + " must be in (0, 1]");
+  if (!(eviction_confidence >= 0.0f)) throw Error(field("eviction_confidence") + " must be ≥ 0");
+  if (workgroups == 0) throw Error(field("workgroups") + " must be ≥ 1");
+  if (workgroup_size == 0 || workgroup_size > 1024) throw Error(field("workgroup_size") + " must be in 1..1024");
+}
+
+struct MapMaintenance::Kernels {
+  std::unique_ptr<gpu::ComputeKernel> cleanup, scan, add, scatter, finish;
+  gpu::BindingSet cleanup_sets[2], scatter_sets[2], finish_set;
+  std::vector<gpu::BindingSet> scan_sets;  ///< per level
+  std::vector<gpu::BindingSet> add_sets;   ///< per level 1..L−1
+  std::uint32_t surfel_groups = 1;
+};
+
+MapMaintenance::MapMaintenance(gpu::GpuContext& context, gpu::CapacityPlan& plan, const MapBuffers& map,
+                               const PinholeCamera& camera, const MaintenanceOptions& options)
+    : context_(context), options_(options), map_options_(map.options()), camera_(camera), state_(map.state()),
+      index_depth_(map.indexDepth()), index_id_(map.indexId()) {
+  options_.validate();
+  if (camera.width != map.width() || camera.height != map.height()) {
+    throw Error("map maintenance: camera is " + std::to_string(camera.width) + "x" + std::to_string(camera.height) +
+                ", the map's index map " + std::to_string(map.width()) + "x" + std::to_string(map.height()));
+  }
+  surfels_[0] = map.surfels(0);
+  surfels_[1] = map.surfels(1);
+  const std::uint32_t capacity = map_options_.capacity;
+  params_ = plan.addBuffer("maintenance.params", sizeof(CleanupParams), gpu::MemoryUse::Upload);
+  stats_ = plan.addBuffer("maintenance.stats", sizeof(MaintenanceStats), gpu::MemoryUse::Readback);
+  keep_ = plan.addBuffer("maintenance.keep", uint64_t{capacity} * 4, gpu::MemoryUse::DeviceLocal);
+  // Level 0 is the flags; level k+1 holds the tile totals of level k, until a level fits one tile.
+  // At least one level above 0, so the scatter always has tile offsets to add.
+  level_sizes_.push_back(capacity);
+  offsets_.push_back(plan.addBuffer("maintenance.offsets.l0", uint64_t{capacity} * 4, gpu::MemoryUse::DeviceLocal));
+  do {
+    const std::uint32_t n = tilesOf(level_sizes_.back());
+    const std::string level = std::to_string(level_sizes_.size());
+    tile_sums_.push_back(plan.addBuffer("maintenance.tile_sums.l" + level, uint64_t{n} * 4, gpu::MemoryUse::DeviceLocal));
+    offsets_.push_back(plan.addBuffer("maintenance.offsets.l" + level, uint64_t{n} * 4, gpu::MemoryUse::DeviceLocal));
+    level_sizes_.push_back(n);
+  } while (level_sizes_.back() > kCompactTileSize);
+  tile_sums_.push_back(plan.addBuffer("maintenance.total", 4, gpu::MemoryUse::DeviceLocal));
+}
+
+MapMaintenance::~MapMaintenance() = default;
+
+void MapMaintenance::build(const gpu::MemoryArena& arena) {
+  arena_ = &arena;
+  kernels_ = std::make_unique<Kernels>();
+  Kernels& k = *kernels_;
+  const std::array<uint32_t, 3> wg = {options_.workgroup_size, 1, 1};
+  const auto levels = static_cast<uint32_t>(offsets_.size());
+  auto make = [&](const char* name, std::span<const uint32_t> spirv, uint32_t buffers, uint32_t push_bytes,
+                  std::array<uint32_t, 3> workgroup, uint32_t sets) {
+    gpu::KernelSpec spec;
+    spec.name = name;
+    spec.spirv = spirv;
+    spec.storage_buffers = buffers;
+    spec.push_constant_bytes = push_bytes;
+    spec.workgroup_size = workgroup;
+    spec.constants = {{3, kCompactTileSize}};
+    spec.max_binding_sets = std::max(1u, sets);
+    return gpu::ComputeKernel::create(context_, std::move(spec));
+  };
+  k.cleanup = make("map_cleanup", shaders::map_cleanup, 7, 0, wg, 2);
+  k.scan = make("map_compact_scan", shaders::map_compact_scan, 4, sizeof(LevelPush), {kScanWorkgroupSize, 1, 1}, levels);
+  k.add = make("map_compact_add", shaders::map_compact_add, 3, sizeof(LevelPush), wg, levels - 2);
+  k.scatter = make("map_compact_scatter", shaders::map_compact_scatter, 6, 0, wg, 2);
+  k.finish = make("map_compact_finish", shaders::map_compact_finish, 3, 0, {1, 1, 1}, 1);
+
+  const uint64_t capacity_groups = (uint64_t{map_options_.capacity} + options_.workgroup_size - 1) / options_.workgroup_size;
+  k.surfel_groups = static_cast<uint32_t>(std::min<uint64_t>(options_.workgroups, capacity_groups));
+
+  auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
+  for (int parity = 0; parity < 2; ++parity) {
+    k.cleanup_sets[parity] = k.cleanup->bind({buffer(state_), buffer(params_), buffer(surfels_[parity]),
+                                              buffer(index_depth_), buffer(index_id_), buffer(keep_), buffer(stats_)});
+    k.scatter_sets[parity] = k.scatter->bind({buffer(state_), buffer(keep_), buffer(offsets_[0]), buffer(offsets_[1]),
+                                              buffer(surfels_[parity]), buffer(surfels_[parity ^ 1])});
+  }
+  for (uint32_t l = 0; l < levels; ++l) {
+    const gpu::BufferId values = l == 0 ? keep_ : tile_sums_[l - 1];
+    k.scan_sets.push_back(k.scan->bind({buffer(state_), buffer(values), buffer(offsets_[l]), buffer(tile_sums_[l])}));
+  }
+  for (uint32_t l = 1; l + 1 < levels; ++l) {
+    k.add_sets.push_back(k.add->bind({buffer(state_), buffer(offsets_[l]), buffer(offsets_[l + 1])}));
+  }
+  k.finish_set = k.finish->bind({buffer(state_), buffer(tile_sums_.back()), buffer(stats_)});
+}
+
+CleanupParams MapMaintenance::makeParams(const SE3d& T_C_W, std::uint32_t frame) const {
+  CleanupParams params;
+  params.view = MapView::make(T_C_W, camera_, frame);
+  params.confidence_threshold = map_options_.confidence_threshold;
+  params.time_window_frames = map_options_.time_window_frames;
+  params.unstable_max_age_frames = map_options_.unstable_max_age_frames;
+  params.max_depth_m = map_options_.max_depth_m;
+  params.free_space_margin_m = options_.free_space_margin_m;
+  params.facing_min_abs_nz = options_.facing_min_abs_nz;
+  params.free_space_min_neighbours = options_.free_space_min_neighbours;
+  params.full_count = static_cast<std::uint32_t>(std::floor(double{options_.full_fraction} * map_options_.capacity));
+  params.eviction_confidence = options_.eviction_confidence;
+  return params;
+}
+
+void MapMaintenance::setView(const SE3d& T_C_W, std::uint32_t frame) const {
+  const CleanupParams params = makeParams(T_C_W, frame);
+  std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
+}
+
+void MapMaintenance::record(gpu::CommandRecorder& recorder, int parity) const {
+  recordCleanup(recorder, parity);
+  recordCompaction(recorder, parity);
+}
+
+void MapMaintenance::recordCleanup(gpu::CommandRecorder& recorder, int parity) const {
+  const Kernels& k = *kernels_;
+  recorder.fillBuffer(arena_->buffer(stats_), 0u);
+  recorder.computeBarrier();
+  recorder.dispatch(*k.cleanup, k.cleanup_sets[parity & 1], {k.surfel_groups, 1, 1});
+  recorder.computeBarrier();
+}
+
+void MapMaintenance::recordCompaction(gpu::CommandRecorder& recorder, int parity) const {
+  const Kernels& k = *kernels_;
+  const auto levels = static_cast<uint32_t>(offsets_.size());
+  for (uint32_t l = 0; l < levels; ++l) {
+    const uint32_t groups = std::min(options_.workgroups, tilesOf(level_sizes_[l]));
+    recorder.dispatch(*k.scan, k.scan_sets[l], {groups, 1, 1}, LevelPush{l});
+    recorder.computeBarrier();
+  }
+  for (uint32_t l = levels - 2; l >= 1; --l) {
+    const uint64_t groups = (uint64_t{level_sizes_[l]} + options_.workgroup_size - 1) / options_.workgroup_size;
+    recorder.dispatch(*k.add, k.add_sets[l - 1], {static_cast<uint32_t>(std::min<uint64_t>(options_.workgroups, groups)), 1, 1},
+                      LevelPush{l});
+    recorder.computeBarrier();
+  }
+  recorder.dispatch(*k.scatter, k.scatter_sets[parity & 1], {k.surfel_groups, 1, 1});
+  recorder.computeBarrier();
+  recorder.dispatch(*k.finish, k.finish_set, {1, 1, 1});
+  recorder.computeBarrier();
+  recorder.hostReadBarrier();
+}
+
+MaintenanceStats MapMaintenance::stats() const {
+  MaintenanceStats stats;
+  std::memcpy(&stats, arena_->buffer(stats_).mapped, sizeof(stats));
+  return stats;
+}
+
+}  // namespace vifusion::map

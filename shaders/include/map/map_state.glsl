@@ -1,0 +1,13 @@
+// The map's state record, shared by every map kernel; mirrored by vifusion::map::MapState
+// (pipeline/map/include/vifusion/map/map_buffers.hpp). std430, 16 bytes.
+#ifndef VIFUSION_MAP_MAP_STATE_GLSL
+#define VIFUSION_MAP_MAP_STATE_GLSL
+
+struct MapState {
+  uint surfel_count;    // surfels in the current array, ≤ capacity
+  uint overflow_count;  // new surfels dropped since start-up because the map was full
+  uint frame;           // frame last fused (written by map_insert)
+  uint pad;
+};
+
+#endif

@@ -1,0 +1,62 @@
+#version 450
+// map_predict_splat: the two atomic passes of model prediction (shaders/include/map/prediction.glsl
+// says which surfels are rendered and how a disk is splatted). Compiled twice:
+//   VIFUSION_SPLAT_PASS=0 (map_predict_depth): every covered pixel takes the atomicMin of the
+//     intersection depth's float bits — for positive floats the bit order is the numeric order.
+//   VIFUSION_SPLAT_PASS=1 (map_predict_id): every surfel whose depth at a pixel is ≤ that minimum
+//     takes the atomicMin of its index, so exact ties go to the lowest index, deterministically.
+//     "≤" rather than "==" keeps a pixel covered even if a driver recomputed the depth one ulp
+//     lower (the helpers are `precise`, so it should not).
+// Only 32-bit atomics; no 64-bit (depth ‖ id) packing, which Mali/V3D lack.
+//
+// Bindings (set 0, std430):
+//   0  state       readonly   map state: surfel_count bounds the loop
+//   1  params      readonly   PredictionParams (host-written per frame)
+//   2  surfels     readonly   Surfel[] of the current ping-pong array
+//   3  depth_bits  pass 0: atomicMin target, cleared to 0xffffffff; pass 1: readonly
+//   4  ids         pass 1: atomicMin target, cleared to kNoSurfel; pass 0: unused
+// Grid-stride over surfels, so the dispatch size is fixed at record time (no indirect dispatch).
+// CPU reference: splatModelCpu.
+#extension GL_GOOGLE_include_directive : require
+#include "map/prediction.glsl"
+
+layout(local_size_x = 128) in;
+layout(local_size_x_id = 0) in;
+
+layout(set = 0, binding = 0, std430) restrict readonly buffer MapState {
+  uint surfel_count;
+  uint overflow_count;
+  uint state_frame;
+  uint state_pad;
+} state;
+layout(set = 0, binding = 1, std430) restrict readonly buffer Params { PredictionParams params; };
+layout(set = 0, binding = 2, std430) restrict readonly buffer Surfels { Surfel surfels[]; };
+layout(set = 0, binding = 3, std430) restrict buffer DepthBits { uint depth_bits[]; };
+layout(set = 0, binding = 4, std430) restrict buffer Ids { uint ids[]; };
+
+void main() {
+  // Loaded once: the compiler may not hoist buffer loads across the atomics in the loop.
+  const PredictionParams p = params;
+  const uint count = state.surfel_count;
+  const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+  for (uint i = gl_GlobalInvocationID.x; i < count; i += stride) {
+    const Surfel surfel = surfels[i];
+    if (!isRendered(surfel, p)) continue;
+    const CameraSurfel s = toCamera(surfel, p.view);
+    if (!(s.p_C.z > p.min_depth_m && s.p_C.z <= p.max_depth_m)) continue;
+    const Footprint f = footprintOf(s, p);
+    for (int y = f.y0; y <= f.y1; ++y) {
+      for (int x = f.x0; x <= f.x1; ++x) {
+        vec3 q_C;
+        if (!splatPixel(s, ivec2(x, y), p.view, q_C)) continue;
+        const uint pixel = uint(y * p.view.width + x);
+        const uint bits = floatBitsToUint(q_C.z);
+#if VIFUSION_SPLAT_PASS == 0
+        atomicMin(depth_bits[pixel], bits);
+#else
+        if (bits <= depth_bits[pixel]) atomicMin(ids[pixel], i);
+#endif
+      }
+    }
+  }
+}

@@ -19,28 +19,6 @@ std::string_view trim(std::string_view text) {
   return text;
 }
 
-// Plain "digits[.digits]" with at most 9 fractional digits: exact. Returns false for anything else.
-bool exactSecondsToNs(std::string_view text, std::int64_t* t_ns) {
-  const std::size_t dot = text.find('.');
-  const std::string_view whole = text.substr(0, dot);
-  const std::string_view fraction = dot == std::string_view::npos ? std::string_view() : text.substr(dot + 1);
-  // 10 whole digits keep seconds · 1e9 below 2^63 (9.2e18).
-  if (whole.empty() || whole.size() > 10 || fraction.size() > 9) return false;
-  std::int64_t seconds = 0;
-  for (const char c : whole) {
-    if (c < '0' || c > '9') return false;
-    seconds = seconds * 10 + (c - '0');
-  }
-  std::int64_t fraction_ns = 0;
-  for (std::size_t k = 0; k < 9; ++k) {
-    const char c = k < fraction.size() ? fraction[k] : '0';
-    if (c < '0' || c > '9') return false;
-    fraction_ns = fraction_ns * 10 + (c - '0');
-  }
-  *t_ns = seconds * kNsPerSecond + fraction_ns;
-  return true;
-}
-
 }  // namespace
 
 std::string readTextFile(const std::filesystem::path& path, const std::string& display_name) {
@@ -98,8 +76,7 @@ std::string where(const std::string& file, std::size_t line_number) {
 }
 
 std::int64_t parseSecondsToNs(std::string_view text, const std::string& prefix, std::string_view name) {
-  std::int64_t t_ns = 0;
-  if (exactSecondsToNs(text, &t_ns)) return t_ns;
+  if (const auto exact = decimalSecondsToNs(text)) return *exact;
   double t_s = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), t_s);
   // Negative stamps are refused: every dataset time base here starts at or after zero.

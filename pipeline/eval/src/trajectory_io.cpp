@@ -50,29 +50,6 @@ std::string formatDuration(std::int64_t dt_ns) {
   return out.str();
 }
 
-// Plain "digits[.digits]" stamps (what every TUM file holds) are converted digit by digit, so
-// 1305031098.6659 s becomes exactly 1305031098665900000 ns; going through a double would round to
-// ~0.2 us at this magnitude and break exact stamp comparisons.
-bool exactDecimalSecondsToNs(std::string_view text, std::int64_t* t_ns) {
-  const std::size_t dot = text.find('.');
-  const std::string_view whole = text.substr(0, dot);
-  const std::string_view fraction = dot == std::string_view::npos ? std::string_view() : text.substr(dot + 1);
-  if (whole.empty() || whole.size() > 10 || fraction.size() > 9) return false;
-  std::int64_t seconds = 0;
-  for (const char c : whole) {
-    if (c < '0' || c > '9') return false;
-    seconds = seconds * 10 + (c - '0');
-  }
-  std::int64_t fraction_ns = 0;
-  for (std::size_t k = 0; k < 9; ++k) {
-    const char c = k < fraction.size() ? fraction[k] : '0';
-    if (c < '0' || c > '9') return false;
-    fraction_ns = fraction_ns * 10 + (c - '0');
-  }
-  *t_ns = seconds * kNsPerSecond + fraction_ns;
-  return true;
-}
-
 StampedPose parseLine(const std::vector<std::string_view>& fields, const std::string& where) {
   if (fields.size() != kFieldNames.size()) {
     throw Error(where + "expected 8 numbers, found " + std::to_string(fields.size()));
@@ -87,7 +64,9 @@ StampedPose parseLine(const std::vector<std::string_view>& fields, const std::st
     }
   }
   StampedPose pose;
-  if (!exactDecimalSecondsToNs(fields[0], &pose.t_ns)) {
+  if (const auto exact = decimalSecondsToNs(fields[0])) {
+    pose.t_ns = *exact;
+  } else {
     // Exponent notation, a sign or sub-nanosecond digits: round through double instead.
     if (std::abs(values[0]) >= 9.2e9) {
       throw Error(where + "field 't' is out of range for a stamp in nanoseconds: '" + std::string(fields[0]) + "'");

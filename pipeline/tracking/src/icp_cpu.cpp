@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "pose_and_camera.hpp"
+
 namespace vifusion::tracking {
 
 NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> current_vertices,
@@ -11,19 +13,14 @@ NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> 
                                        ImageView<const preprocess::NormalPixel> model_normals, const IcpParams& params) {
   using Eigen::Vector3f;
   using Eigen::Vector4f;
-  const auto row = [&](int r) {
-    return Vector4f(params.T_ref_cur_rows[r][0], params.T_ref_cur_rows[r][1], params.T_ref_cur_rows[r][2],
-                    params.T_ref_cur_rows[r][3]);
-  };
-  const Vector4f rows[3] = {row(0), row(1), row(2)};
+  const RowTransform T_ref_cur(params);
   NormalEquations6 sum;
   for (int y = 0; y < params.height; ++y) {
     for (int x = 0; x < params.width; ++x) {
       const Vector4f& p = current_vertices(x, y);
       if (!(p.z() > 0.0f)) continue;
       sum.addCandidate();
-      const Vector4f p1(p.x(), p.y(), p.z(), 1.0f);
-      const Vector3f q(rows[0].dot(p1), rows[1].dot(p1), rows[2].dot(p1));
+      const Vector3f q = T_ref_cur.point(p);
       if (!(q.z() > 0.0f)) continue;
       const int u = static_cast<int>(std::floor(params.fx * q.x() / q.z() + params.cx + 0.5f));
       const int v = static_cast<int>(std::floor(params.fy * q.y() / q.z() + params.cy + 0.5f));
@@ -34,8 +31,7 @@ NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> 
       if (!(model_v.z() > 0.0f) || model_n.w() == 0.0f || cur_n.w() == 0.0f) continue;
       const Vector3f diff = q - model_v.head<3>();
       if (diff.squaredNorm() > params.max_distance_m * params.max_distance_m) continue;
-      const Vector3f rotated_n(rows[0].head<3>().dot(cur_n.head<3>()), rows[1].head<3>().dot(cur_n.head<3>()),
-                               rows[2].head<3>().dot(cur_n.head<3>()));
+      const Vector3f rotated_n = T_ref_cur.direction(cur_n.head<3>());
       const Vector3f normal_cross = rotated_n.cross(model_n.head<3>());
       if (normal_cross.squaredNorm() > params.max_normal_sin * params.max_normal_sin) continue;
 

@@ -3,6 +3,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "pose_and_camera.hpp"
+
 namespace vifusion::tracking {
 
 NormalEquations6 photometricNormalEquationsCpu(ImageView<const preprocess::VertexPixel> current_vertices,
@@ -14,19 +16,14 @@ NormalEquations6 photometricNormalEquationsCpu(ImageView<const preprocess::Verte
   using Eigen::Vector2f;
   using Eigen::Vector3f;
   using Eigen::Vector4f;
-  const auto row = [&](int r) {
-    return Vector4f(params.T_ref_cur_rows[r][0], params.T_ref_cur_rows[r][1], params.T_ref_cur_rows[r][2],
-                    params.T_ref_cur_rows[r][3]);
-  };
-  const Vector4f rows[3] = {row(0), row(1), row(2)};
+  const RowTransform T_ref_cur(params);
   NormalEquations6 sum;
   for (int py = 0; py < params.height; ++py) {
     for (int px = 0; px < params.width; ++px) {
       const Vector4f& p = current_vertices(px, py);
       if (!(p.z() > 0.0f)) continue;
       sum.addCandidate();
-      const Vector4f p1(p.x(), p.y(), p.z(), 1.0f);
-      const Vector3f q(rows[0].dot(p1), rows[1].dot(p1), rows[2].dot(p1));
+      const Vector3f q = T_ref_cur.point(p);
       if (!(q.z() > 0.0f)) continue;
       const float inv_z = 1.0f / q.z();
       const float x = params.fx * q.x() * inv_z + params.cx;

@@ -72,3 +72,22 @@ TEST(Time, MonotonicNowIsMonotonicAndTracksSteadyClock) {
 
 }  // namespace
 }  // namespace vifusion
+
+namespace vifusion {
+namespace {
+
+TEST(DecimalSecondsToNs, ConvertsPlainDecimalsExactly) {
+  EXPECT_EQ(decimalSecondsToNs("1305031098.6659"), 1305031098665900000);
+  EXPECT_EQ(decimalSecondsToNs("0.033333"), 33333000);
+  EXPECT_EQ(decimalSecondsToNs("12"), 12 * kNsPerSecond);
+  EXPECT_EQ(decimalSecondsToNs("1.123456789"), 1123456789);
+}
+
+TEST(DecimalSecondsToNs, RejectsEverythingElse) {
+  for (const char* text : {"", "-1.0", "1e3", "1.0123456789", "12345678901.0", " 1.0", "1.0 ", "1..0", ".5", "nan"}) {
+    EXPECT_FALSE(decimalSecondsToNs(text).has_value()) << "'" << text << "'";
+  }
+}
+
+}  // namespace
+}  // namespace vifusion

@@ -7,6 +7,8 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <string_view>
 
 namespace vifusion {
 
@@ -31,5 +33,11 @@ inline std::int64_t secondsToNs(double t_s) {
 /// Current host CLOCK_MONOTONIC time [ns]: the clock V4L2 buffer timestamps and libgpiod edge events
 /// use, so sensor times and host times compare without conversion.
 std::int64_t monotonicNowNs();
+
+/// Exact conversion of plain decimal seconds text, "digits[.digits]" with at most 10 whole and 9
+/// fractional digits (what TUM, ICL-NUIM and EuRoC files hold), to nanoseconds: 1305031098.6659 s
+/// becomes exactly 1305031098665900000 ns, where a double would round to ~0.2 µs at this magnitude
+/// and break exact stamp comparisons. Anything else (signs, exponents, spaces) gives nullopt.
+std::optional<std::int64_t> decimalSecondsToNs(std::string_view text);
 
 }  // namespace vifusion

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "vifusion/test/expect_error.hpp"
 #include "vifusion/core/error.hpp"
 
 namespace vifusion::datasets::test {
@@ -131,17 +132,6 @@ inline void truncateFile(const std::filesystem::path& path) {
   std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);
 }
 
-/// Runs `action` and checks it throws vifusion::Error whose message contains `expected`: the message
-/// is the user interface of a boundary error, so its wording is part of the contract.
-template <typename Action>
-void expectError(Action&& action, const std::string& expected) {
-  try {
-    action();
-    ADD_FAILURE() << "no vifusion::Error thrown; expected one containing \"" << expected << "\"";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
-        << "message \"" << e.what() << "\" lacks \"" << expected << "\"";
-  }
-}
+using vifusion::test::expectError;
 
 }  // namespace vifusion::datasets::test

@@ -1,5 +1,6 @@
 // Synthetic living-room rendering: frames per second of the ray caster, noise-free and with the
-// ICL-NUIM sensor-noise model, at 640×480 and 320×240, on a view with furniture, walls and floor.
+// ICL-NUIM sensor-noise model, at 640×480 and 320×240, on a view with furniture, walls and floor,
+// with antialiased colour (the default) and point-sampled colour (one ray per pixel, the cost floor).
 // items/s = frames/s. The goal is ≥ 20 frames/s noise-free at 640×480 on 2 cores.
 // JSON: bench_render --benchmark_out=bench.json --benchmark_out_format=json
 
@@ -40,10 +41,20 @@ PinholeCamera cameraFor(int width) {
 
 SE3d benchmarkPose() { return lookAt(Eigen::Vector3d(2.2, 1.6, 1.5), Eigen::Vector3d(-1.0, 0.6, -3.0)); }
 
+/// Default options (antialiased = 1) or colour from the centre ray's point-sampled texture (0).
+RenderOptions renderOptions(std::int64_t antialiased) {
+  RenderOptions options;
+  if (antialiased == 0) {
+    options.filter_textures = false;
+    options.edge_samples_per_axis = 1;
+  }
+  return options;
+}
+
 void renderClean(benchmark::State& state) {
   const PinholeCamera camera = cameraFor(static_cast<int>(state.range(0)));
   RowPool& threads = pool(state.range(1));
-  const Renderer renderer(room(), threads);
+  const Renderer renderer(room(), threads, renderOptions(state.range(2)));
   Image<Rgb8> rgb(camera.width, camera.height);
   Image<std::uint16_t> depth(camera.width, camera.height);
   const SE3d T_W_C = benchmarkPose();
@@ -59,7 +70,7 @@ void renderClean(benchmark::State& state) {
 void renderNoisy(benchmark::State& state) {
   const PinholeCamera camera = cameraFor(static_cast<int>(state.range(0)));
   RowPool& threads = pool(state.range(1));
-  const Renderer renderer(room(), threads);
+  const Renderer renderer(room(), threads, renderOptions(state.range(2)));
   SensorNoise noise(SensorNoiseOptions{}, threads);
   Image<Rgb8> rgb(camera.width, camera.height);
   Image<float> clean_depth_m(camera.width, camera.height);
@@ -79,17 +90,18 @@ void renderNoisy(benchmark::State& state) {
   state.counters["threads"] = threads.threadCount();
 }
 
-// Arguments: image width [px], threads (0 = all hardware threads, 1 = the calling thread only).
-// Real time, because the pool's workers do not count towards the calling thread's CPU time.
+// Arguments: image width [px], threads (0 = all hardware threads, 1 = the calling thread only),
+// antialiased colour (1) or point-sampled (0). Real time, because the pool's workers do not count
+// towards the calling thread's CPU time.
 BENCHMARK(renderClean)
-    ->ArgsProduct({{640, 320}, {0, 1}})
-    ->ArgNames({"width", "threads"})
+    ->ArgsProduct({{640, 320}, {0, 1}, {1, 0}})
+    ->ArgNames({"width", "threads", "antialiased"})
     ->Name("render_clean")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(renderNoisy)
-    ->ArgsProduct({{640, 320}, {0, 1}})
-    ->ArgNames({"width", "threads"})
+    ->ArgsProduct({{640, 320}, {0, 1}, {1, 0}})
+    ->ArgNames({"width", "threads", "antialiased"})
     ->Name("render_noisy")
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();

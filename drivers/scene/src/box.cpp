@@ -77,6 +77,9 @@ bool Box::intersect(const Eigen::Vector3d& origin_W, const Eigen::Vector3d& dire
   hit->t = t;
   hit->normal_W = rotateToWorld(n_B);
   hit->st_m = {p_corner[kS[axis]], p_corner[kT[axis]]};
+  hit->s_axis_W = rotateToWorld(Eigen::Vector3d::Unit(kS[axis]));
+  hit->t_axis_W = rotateToWorld(Eigen::Vector3d::Unit(kT[axis]));
+  hit->box = this;
   hit->axis = axis;
   hit->side = side;
   hit->material = spec_.material;

@@ -160,6 +160,17 @@ bool LivingRoom::intersect(const Eigen::Vector3d& origin_W, const Eigen::Vector3
   return found;
 }
 
+bool LivingRoom::intersectAmong(const Eigen::Vector3d& origin_W, const Eigen::Vector3d& direction_W,
+                                std::span<const Box* const> boxes, SurfaceHit* hit) const {
+  SurfaceHit best;
+  bool found = false;
+  for (const Box* box : boxes) found |= box->intersect(origin_W, direction_W, 0.0, &best);
+  if (!found) return false;
+  if (best.box == &shell_) best.material = wall_materials_[static_cast<std::size_t>(2 * best.axis + best.side)];
+  *hit = best;
+  return true;
+}
+
 double LivingRoom::distanceToSurface(const Eigen::Vector3d& p_W) const {
   double best = shell_.distanceToSurface(p_W);
   if (nodes_.empty()) return best;

@@ -14,16 +14,27 @@
 
 namespace vifusion::scene {
 
+class Box;
+
 /// Where a ray meets a surface.
 struct SurfaceHit {
   double t = std::numeric_limits<double>::infinity();  ///< ray parameter: hit point = origin + t·direction
   Eigen::Vector3d normal_W = Eigen::Vector3d::Zero();  ///< unit normal on the side the ray came from
   Eigen::Vector2d st_m = Eigen::Vector2d::Zero();      ///< texture coordinates in the face [m] (texture.hpp)
+  Eigen::Vector3d s_axis_W = Eigen::Vector3d::Zero();  ///< unit direction in which s grows: ∂s/∂p_W [m/m]
+  Eigen::Vector3d t_axis_W = Eigen::Vector3d::Zero();  ///< unit direction in which t grows: ∂t/∂p_W [m/m]
+  const Box* box = nullptr;                            ///< the box hit; with axis and side, names the face
   int axis = 0;                                        ///< box axis the face is normal to (0 x, 1 y, 2 z)
   int side = 0;                                        ///< 0 at −half extent, 1 at +half extent
   Material material = Material::kWhiteWall;
   std::uint32_t variant = 0;
 };
+
+/// True when both hits lie on the same face of the same box, so that texture coordinates and shading
+/// continue smoothly from one to the other.
+inline bool sameFace(const SurfaceHit& a, const SurfaceHit& b) {
+  return a.box == b.box && a.axis == b.axis && a.side == b.side;
+}
 
 /// What a box is: placement, size and surface.
 struct BoxSpec {

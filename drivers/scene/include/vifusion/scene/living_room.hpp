@@ -47,6 +47,12 @@ class LivingRoom {
   /// From inside the room there is always one; from outside, false when the ray misses the room.
   bool intersect(const Eigen::Vector3d& origin_W, const Eigen::Vector3d& direction_W, SurfaceHit* hit) const;
 
+  /// The same among `boxes` only (this room's furniture or its shell, as SurfaceHit::box names them):
+  /// a cheap re-cast of a ray next to rays already cast, whose hits name what can be seen there.
+  /// False when none of them is hit.
+  bool intersectAmong(const Eigen::Vector3d& origin_W, const Eigen::Vector3d& direction_W,
+                      std::span<const Box* const> boxes, SurfaceHit* hit) const;
+
   /// Unsigned distance from p_W to the nearest scene surface (walls, floor, ceiling, furniture) [m].
   double distanceToSurface(const Eigen::Vector3d& p_W) const;
 

@@ -6,8 +6,10 @@
 //
 // The textured materials carry structure at three scales because the tracker aligns a 3-level
 // pyramid (640, 320, 160 px): coarse (stripes, panels, planks, tiles: 0.2–0.6 m), medium (checks,
-// bricks, weave: 5–15 cm) and fine (grain, stipple: 1–2 cm, a few pixels at 2 m and 640 px). Nothing is
-// finer than about 1 cm, because one ray per pixel would alias it into flicker between frames.
+// bricks, weave: 5–15 cm) and fine (grain, stipple, joints: 0.4–2 cm, a few pixels at 2 m and 640 px).
+// Fine structure, hard edges and distant or grazing surfaces would alias under point sampling, so
+// albedo() can return the texture averaged over a pixel's footprint (src/texture_filter.hpp), as a camera
+// pixel integrates it.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -39,6 +41,10 @@ using Albedo = Eigen::Vector3f;
 /// Albedo of `material` (object `variant`) at in-plane coordinates st_m [m]. For walls and floor, st
 /// are world coordinates in the plane measured from the room's minimum corner, t upwards on walls; for
 /// box faces, the two box-frame coordinates in the face measured from the box's minimum corner.
-Albedo albedo(Material material, std::uint32_t variant, const Eigen::Vector2d& st_m);
+///
+/// J_st_px is the footprint to average over: pixel offsets (a, b) ∈ [−½, ½]² [px] around the sample
+/// reach st_m + J_st_px·(a, b) [m] (pixel_footprint.hpp). Zero, the default, is a point sample.
+Albedo albedo(Material material, std::uint32_t variant, const Eigen::Vector2d& st_m,
+              const Eigen::Matrix2d& J_st_px = Eigen::Matrix2d::Zero());
 
 }  // namespace vifusion::scene

@@ -1,6 +1,7 @@
 #version 450
-// bilateral_depth: edge-preserving smoothing of metric depth (ElasticFusion's defaults: 13 × 13
-// window, σ_space 4.5 px, σ_range 0.03 m). Neighbours that are invalid or outside the image are
+// bilateral_depth: edge-preserving smoothing of metric depth (ElasticFusion's 13 × 13 window and
+// σ_space 4.5 px; σ_range = range_sigmas · σ_z(z_centre), the sensor's axial noise at the centre
+// pixel's depth, so quantisation steps that grow with z² are smoothed at every range). Neighbours that are invalid or outside the image are
 // skipped and the result is normalised by the weights used, so holes and borders do not pull
 // depth towards 0; an invalid centre stays invalid.
 //
@@ -20,7 +21,10 @@ layout(push_constant) uniform Params {
   int height;            // [px]
   int radius_px;         // window half-size [px]; the window is (2r+1)²
   float sigma_space_px;  // spatial standard deviation [px]
-  float sigma_range_m;   // depth-difference standard deviation [m]
+  float range_sigmas;    // σ_range in units of σ_z(z) [1]
+  float noise_a_m;       // σ_z(z) = a + b·(z − z0)² [m]
+  float noise_b_per_m;   // [1/m]
+  float noise_z0_m;      // [m]
 } params;
 
 layout(set = 0, binding = 0, std430) restrict readonly buffer DepthIn { float depth_in[]; };
@@ -38,7 +42,9 @@ void main() {
   }
 
   const float space_coeff = 0.5 / (params.sigma_space_px * params.sigma_space_px);  // 1/(2σ_s²) [1/px²]
-  const float range_coeff = 0.5 / (params.sigma_range_m * params.sigma_range_m);    // 1/(2σ_r²) [1/m²]
+  const float dz_m = centre_m - params.noise_z0_m;
+  const float sigma_range_m = params.range_sigmas * (params.noise_a_m + params.noise_b_per_m * dz_m * dz_m);
+  const float range_coeff = 0.5 / (sigma_range_m * sigma_range_m);  // 1/(2σ_r²) [1/m²]
   const int r = params.radius_px;
   const float inverse_centre = 1.0 / centre_m;
   float weight_sum = 0.0;

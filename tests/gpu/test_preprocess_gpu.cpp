@@ -33,6 +33,7 @@ class PreprocessPipeline {
   PreprocessPipeline(gpu::GpuContext& context, const preprocess::PreprocessOptions& options)
       : stage_(context, plan_, options) {
     raw_depth_ = mirror(stage_.rawDepth());
+    filtered_vertices_ = mirror(stage_.filteredVertices());
     for (int l = 0; l < stage_.levels(); ++l) {
       const preprocess::LevelBuffers& level = stage_.level(l);
       levels_.push_back({mirror(level.depth_m), mirror(level.intensity), mirror(level.vertices), mirror(level.normals),
@@ -64,6 +65,7 @@ class PreprocessPipeline {
   };
   const preprocess::PreprocessStage& stage() const { return stage_; }
   const Mirror& rawDepth() const { return raw_depth_; }
+  const Mirror& filteredVertices() const { return filtered_vertices_; }
   const LevelMirrors& level(int l) const { return levels_[l]; }
 
  private:
@@ -78,6 +80,7 @@ class PreprocessPipeline {
   preprocess::PreprocessStage stage_;
   std::vector<Mirror> mirrors_;
   Mirror raw_depth_;
+  Mirror filtered_vertices_;
   std::vector<LevelMirrors> levels_;
   std::unique_ptr<gpu::MemoryArena> arena_;
   std::unique_ptr<gpu::CommandSequence> sequence_;
@@ -182,16 +185,23 @@ TEST_P(PreprocessGpuTest, EveryKernelMatchesItsCpuReferenceOnRealFrames) {
                                             {fine.width, fine.height}, coarse.view());
         expectAgree<float>("intensity pyramid", l, pipeline.image<float>(level.intensity, l), coarse.view(), 1e-4);
       }
+      // Level 0: vertices from the unfiltered depth, normals from the filtered depth's vertices.
+      const Mirror& vertex_depth = l == 0 ? pipeline.rawDepth() : level.depth;
       Image<VertexPixel> vertices(camera.width, camera.height, VertexPixel::Zero());
-      preprocess::vertexMapCpu(pipeline.image<float>(level.depth, l), preprocess::VertexMapParams::fromCamera(camera),
+      preprocess::vertexMapCpu(pipeline.image<float>(vertex_depth, l), preprocess::VertexMapParams::fromCamera(camera),
                                vertices.view());
       expectAgree<VertexPixel>("vertices", l, pipeline.image<VertexPixel>(level.vertices, l), vertices.view(), 1e-5);
+      if (l == 0) {
+        Image<VertexPixel> filtered_vertices(camera.width, camera.height, VertexPixel::Zero());
+        preprocess::vertexMapCpu(pipeline.image<float>(level.depth, 0), preprocess::VertexMapParams::fromCamera(camera),
+                                 filtered_vertices.view());
+        expectAgree<VertexPixel>("filtered vertices", 0, pipeline.image<VertexPixel>(pipeline.filteredVertices(), 0),
+                                 filtered_vertices.view(), 1e-5);
+      }
+      const Mirror& normal_vertices = l == 0 ? pipeline.filteredVertices() : level.vertices;
 
       Image<NormalPixel> normals(camera.width, camera.height, NormalPixel::Zero());
-      preprocess::NormalMapParams normal_params = used.normals;
-      normal_params.width = camera.width;
-      normal_params.height = camera.height;
-      preprocess::normalMapCpu(pipeline.image<VertexPixel>(level.vertices, l), normal_params, normals.view());
+      preprocess::normalMapCpu(pipeline.image<VertexPixel>(normal_vertices, l), used.normalParams(camera), normals.view());
       expectAgree<NormalPixel>("normals", l, pipeline.image<NormalPixel>(level.normals, l), normals.view(), 1e-4, 1e-4);
 
       Image<GradientPixel> gradients(camera.width, camera.height, GradientPixel::Zero());

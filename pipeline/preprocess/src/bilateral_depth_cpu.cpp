@@ -19,7 +19,6 @@ void bilateralDepthCpu(ImageView<const float> depth_m, const BilateralDepthParam
   }
 
   const float space_coeff = 0.5f / (params.sigma_space_px * params.sigma_space_px);  // 1/(2σ_s²) [1/px²]
-  const float range_coeff = 0.5f / (params.sigma_range_m * params.sigma_range_m);    // 1/(2σ_r²) [1/m²]
   const int r = params.radius_px;
   for (int y0 = 0; y0 < params.height; ++y0) {
     for (int x0 = 0; x0 < params.width; ++x0) {
@@ -28,6 +27,9 @@ void bilateralDepthCpu(ImageView<const float> depth_m, const BilateralDepthParam
         filtered_m(x0, y0) = 0.0f;
         continue;
       }
+      const float dz_m = centre_m - params.noise_z0_m;
+      const float sigma_range_m = params.range_sigmas * (params.noise_a_m + params.noise_b_per_m * dz_m * dz_m);
+      const float range_coeff = 0.5f / (sigma_range_m * sigma_range_m);  // 1/(2σ_r²) [1/m²]
       const float inverse_centre = 1.0f / centre_m;
       float weight_sum = 0.0f;
       float weighted_inverse_sum = 0.0f;

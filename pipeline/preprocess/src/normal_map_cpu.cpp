@@ -3,6 +3,7 @@
 // order (and vectorisation) is not specified.
 
 #include <cmath>
+#include <stdexcept>
 
 #include "view_checks.hpp"
 #include "vifusion/preprocess/cpu_reference.hpp"
@@ -18,23 +19,30 @@ void normalMapCpu(ImageView<const VertexPixel> vertices, const NormalMapParams& 
                   ImageView<NormalPixel> normals) {
   detail::requireSize(vertices, params.width, params.height, "normalMapCpu", "vertices");
   detail::requireSize(normals, params.width, params.height, "normalMapCpu", "normals");
+  if (params.span_px < 1) throw std::invalid_argument("normalMapCpu: span_px must be ≥ 1");
   const float min_norm_sq = params.min_cross_norm_m2 * params.min_cross_norm_m2;
+  const int s = params.span_px;
 
   for (int y = 0; y < params.height; ++y) {
     for (int x = 0; x < params.width; ++x) {
       normals(x, y) = NormalPixel::Zero();
-      if (x + 1 >= params.width || y + 1 >= params.height) continue;
+      if (x < s || y < s || x + s >= params.width || y + s >= params.height) continue;
       const VertexPixel& v = vertices(x, y);
-      const VertexPixel& right = vertices(x + 1, y);
-      const VertexPixel& below = vertices(x, y + 1);
-      if (!isValidVertex(v) || !isValidVertex(right) || !isValidVertex(below)) continue;
+      const VertexPixel& left = vertices(x - s, y);
+      const VertexPixel& right = vertices(x + s, y);
+      const VertexPixel& above = vertices(x, y - s);
+      const VertexPixel& below = vertices(x, y + s);
+      if (!isValidVertex(v) || !isValidVertex(left) || !isValidVertex(right) || !isValidVertex(above) ||
+          !isValidVertex(below)) {
+        continue;
+      }
 
-      const float ax = right.x() - v.x();
-      const float ay = right.y() - v.y();
-      const float az = right.z() - v.z();
-      const float bx = below.x() - v.x();
-      const float by = below.y() - v.y();
-      const float bz = below.z() - v.z();
+      const float ax = right.x() - left.x();
+      const float ay = right.y() - left.y();
+      const float az = right.z() - left.z();
+      const float bx = below.x() - above.x();
+      const float by = below.y() - above.y();
+      const float bz = below.z() - above.z();
       const float cross_x = ay * bz - az * by;
       const float cross_y = az * bx - ax * bz;
       const float cross_z = ax * by - ay * bx;

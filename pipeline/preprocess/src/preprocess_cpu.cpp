@@ -11,6 +11,7 @@ PreprocessCpu::PreprocessCpu(const PreprocessOptions& options) : options_(option
   options_.metric.width = options_.bilateral.width = options_.intensity.width = camera.width;
   options_.metric.height = options_.bilateral.height = options_.intensity.height = camera.height;
   raw_depth_m_.resize(camera.width, camera.height);
+  filtered_vertices_ = Image<VertexPixel>(camera.width, camera.height, VertexPixel::Zero());
   for (int l = 0; l < options_.levels; ++l) {
     const PinholeCamera level_camera = camera.atLevel(l);
     cameras_.push_back(level_camera);
@@ -48,18 +49,18 @@ void PreprocessCpu::runStep(PreprocessStep step) {
       }
       break;
     case PreprocessStep::VerticesAndGradients:
+      vertexMapCpu(levels_[0].depth_m.view(), VertexMapParams::fromCamera(cameras_[0]), filtered_vertices_.view());
       for (int l = 0; l < options_.levels; ++l) {
-        vertexMapCpu(levels_[l].depth_m.view(), VertexMapParams::fromCamera(cameras_[l]), levels_[l].vertices.view());
+        const Image<float>& depth_m = l == 0 ? raw_depth_m_ : levels_[l].depth_m;
+        vertexMapCpu(depth_m.view(), VertexMapParams::fromCamera(cameras_[l]), levels_[l].vertices.view());
         intensityGradientCpu(levels_[l].intensity.view(), {cameras_[l].width, cameras_[l].height},
                              levels_[l].gradients.view());
       }
       break;
     case PreprocessStep::Normals:
       for (int l = 0; l < options_.levels; ++l) {
-        NormalMapParams params = options_.normals;
-        params.width = cameras_[l].width;
-        params.height = cameras_[l].height;
-        normalMapCpu(levels_[l].vertices.view(), params, levels_[l].normals.view());
+        const Image<VertexPixel>& vertices = l == 0 ? filtered_vertices_ : levels_[l].vertices;
+        normalMapCpu(vertices.view(), options_.normalParams(cameras_[l]), levels_[l].normals.view());
       }
       break;
   }

@@ -1,5 +1,7 @@
 #include "vifusion/preprocess/preprocess_stage.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "vifusion/core/error.hpp"
@@ -31,10 +33,21 @@ void PreprocessOptions::validate() const {
   }
   if (bilateral.radius_px < 0 || bilateral.radius_px > 15) throw Error(field("bilateral.radius_px") + " must be in 0..15");
   if (!(bilateral.sigma_space_px > 0.0f)) throw Error(field("bilateral.sigma_space_px") + " must be > 0");
-  if (!(bilateral.sigma_range_m > 0.0f)) throw Error(field("bilateral.sigma_range_m") + " must be > 0");
+  if (!(bilateral.range_sigmas > 0.0f)) throw Error(field("bilateral.range_sigmas") + " must be > 0");
+  if (!(bilateral.noise_a_m > 0.0f)) throw Error(field("bilateral.noise_a_m") + " must be > 0");
+  if (!(bilateral.noise_b_per_m >= 0.0f)) throw Error(field("bilateral.noise_b_per_m") + " must be ≥ 0");
   if (!(pyramid_range_gate_m > 0.0f)) throw Error(field("pyramid_range_gate_m") + " must be > 0");
   if (!(normals.min_cross_norm_m2 >= 1e-18f)) throw Error(field("normals.min_cross_norm_m2") + " must be ≥ 1e-18");
+  if (!(normal_span_rad > 0.0f && normal_span_rad < 0.1f)) throw Error(field("normal_span_rad") + " must be in (0, 0.1)");
   if (workgroup_size == 0 || workgroup_size > 32) throw Error(field("workgroup_size") + " must be in 1..32");
+}
+
+NormalMapParams PreprocessOptions::normalParams(const PinholeCamera& level_camera) const {
+  NormalMapParams params = normals;
+  params.width = level_camera.width;
+  params.height = level_camera.height;
+  params.span_px = std::max(1, static_cast<int>(std::lround(normal_span_rad * level_camera.fx)));
+  return params;
 }
 
 const char* preprocessStepName(PreprocessStep step) {
@@ -52,7 +65,7 @@ const char* preprocessStepName(PreprocessStep step) {
 struct PreprocessStage::Kernels {
   std::unique_ptr<gpu::ComputeKernel> metric, intensity, bilateral, pyramid_depth, pyramid_intensity, vertices, normals,
       gradients;
-  gpu::BindingSet metric_set, intensity_set, bilateral_set;
+  gpu::BindingSet metric_set, intensity_set, bilateral_set, filtered_vertex_set;
   std::vector<gpu::BindingSet> pyramid_depth_sets, pyramid_intensity_sets, vertex_sets, normal_sets, gradient_sets;
 };
 
@@ -67,6 +80,8 @@ PreprocessStage::PreprocessStage(gpu::GpuContext& context, gpu::CapacityPlan& pl
                                 gpu::MemoryUse::Upload);
   rgb_words_ = plan.addBuffer("preprocess.rgb", packedRgbWordCount(camera.width, camera.height) * 4, gpu::MemoryUse::Upload);
   raw_depth_m_ = plan.addBuffer("preprocess.depth_metric", pixels(camera) * sizeof(float), gpu::MemoryUse::DeviceLocal);
+  filtered_vertices_ =
+      plan.addBuffer("preprocess.vertices_filtered", pixels(camera) * sizeof(VertexPixel), gpu::MemoryUse::DeviceLocal);
   for (int l = 0; l < options_.levels; ++l) {
     cameras_.push_back(camera.atLevel(l));
     const uint64_t n = pixels(cameras_.back());
@@ -104,7 +119,7 @@ void PreprocessStage::build(const gpu::MemoryArena& arena) {
   k.pyramid_depth = make("pyramid_down_depth", shaders::pyramid_down_depth, 2, sizeof(PyramidDownDepthParams), pyramid_sets);
   k.pyramid_intensity =
       make("pyramid_down_intensity", shaders::pyramid_down_intensity, 2, sizeof(PyramidDownIntensityParams), pyramid_sets);
-  k.vertices = make("vertex_map", shaders::vertex_map, 2, sizeof(VertexMapParams), levels);
+  k.vertices = make("vertex_map", shaders::vertex_map, 2, sizeof(VertexMapParams), levels + 1);
   k.normals = make("normal_map", shaders::normal_map, 2, sizeof(NormalMapParams), levels);
   k.gradients = make("intensity_gradient", shaders::intensity_gradient, 2, sizeof(IntensityGradientParams), levels);
 
@@ -112,6 +127,7 @@ void PreprocessStage::build(const gpu::MemoryArena& arena) {
   k.metric_set = k.metric->bind({buffer(depth_words_), buffer(raw_depth_m_)});
   k.intensity_set = k.intensity->bind({buffer(rgb_words_), buffer(levels_[0].intensity)});
   k.bilateral_set = k.bilateral->bind({buffer(raw_depth_m_), buffer(levels_[0].depth_m)});
+  k.filtered_vertex_set = k.vertices->bind({buffer(levels_[0].depth_m), buffer(filtered_vertices_)});
   for (uint32_t l = 0; l < levels; ++l) {
     const LevelBuffers& level = levels_[l];
     if (l > 0) {
@@ -119,8 +135,8 @@ void PreprocessStage::build(const gpu::MemoryArena& arena) {
       k.pyramid_intensity_sets.push_back(
           k.pyramid_intensity->bind({buffer(levels_[l - 1].intensity), buffer(level.intensity)}));
     }
-    k.vertex_sets.push_back(k.vertices->bind({buffer(level.depth_m), buffer(level.vertices)}));
-    k.normal_sets.push_back(k.normals->bind({buffer(level.vertices), buffer(level.normals)}));
+    k.vertex_sets.push_back(k.vertices->bind({buffer(l == 0 ? raw_depth_m_ : level.depth_m), buffer(level.vertices)}));
+    k.normal_sets.push_back(k.normals->bind({buffer(l == 0 ? filtered_vertices_ : level.vertices), buffer(level.normals)}));
     k.gradient_sets.push_back(k.gradients->bind({buffer(level.intensity), buffer(level.gradients)}));
   }
 }
@@ -166,6 +182,8 @@ void PreprocessStage::recordStep(gpu::CommandRecorder& recorder, PreprocessStep 
       }
       break;
     case PreprocessStep::VerticesAndGradients:
+      recorder.dispatch(*k.vertices, k.filtered_vertex_set, groups(*k.vertices, 0),
+                        VertexMapParams::fromCamera(cameras_[0]));
       for (int l = 0; l < options_.levels; ++l) {
         recorder.dispatch(*k.vertices, k.vertex_sets[l], groups(*k.vertices, l), VertexMapParams::fromCamera(cameras_[l]));
         const IntensityGradientParams gradient{cameras_[l].width, cameras_[l].height};
@@ -174,10 +192,7 @@ void PreprocessStage::recordStep(gpu::CommandRecorder& recorder, PreprocessStep 
       break;
     case PreprocessStep::Normals:
       for (int l = 0; l < options_.levels; ++l) {
-        NormalMapParams normals = options_.normals;
-        normals.width = cameras_[l].width;
-        normals.height = cameras_[l].height;
-        recorder.dispatch(*k.normals, k.normal_sets[l], groups(*k.normals, l), normals);
+        recorder.dispatch(*k.normals, k.normal_sets[l], groups(*k.normals, l), options_.normalParams(cameras_[l]));
       }
       break;
   }

@@ -15,18 +15,40 @@ using test::fillImage;
 // rounding, so "unchanged" means within a relative 4e-6.
 constexpr float kRelTol = 4e-6f;
 
+/// The filter switched on with ElasticFusion's 13 × 13 window (the pipeline's default is off).
 BilateralDepthParams paramsFor(const Image<float>& image) {
   BilateralDepthParams params;
   params.width = image.width();
   params.height = image.height();
+  params.radius_px = 6;
   return params;
 }
 
-TEST(BilateralDepth, DefaultsAreElasticFusions) {
+TEST(BilateralDepth, OffByDefaultWithElasticFusionsSpaceSigmaAndRangeFollowingTheNoiseModel) {
   const BilateralDepthParams params;
-  EXPECT_EQ(params.radius_px, 6);  // 13 × 13 window
+  EXPECT_EQ(params.radius_px, 0);  // off: raw positions and wide-span normals track better (kernel_params.hpp)
   EXPECT_FLOAT_EQ(params.sigma_space_px, 4.5f);
-  EXPECT_FLOAT_EQ(params.sigma_range_m, 0.03f);
+  EXPECT_FLOAT_EQ(params.range_sigmas, 3.0f);
+  EXPECT_FLOAT_EQ(params.noise_a_m, 0.0012f);
+  EXPECT_FLOAT_EQ(params.noise_b_per_m, 0.0019f);
+  EXPECT_FLOAT_EQ(params.noise_z0_m, 0.4f);
+}
+
+TEST(BilateralDepth, RangeSigmaGrowsWithDepth) {
+  // A 20 mm step is smoothed at 3.5 m (σ_range = 3·(1.2 + 1.9·3.1²) mm ≈ 58 mm) and kept at 0.8 m
+  // (σ_range ≈ 4.5 mm, the step is 4.4 σ): quantisation steps of far depth are filtered, near edges stay.
+  for (const float base_m : {0.8f, 3.5f}) {
+    Image<float> depth(24, 12);
+    fillImage(depth, [&](int x, int) { return x < 12 ? base_m : base_m + 0.02f; });
+    Image<float> out(24, 12);
+    bilateralDepthCpu(depth.view(), paramsFor(depth), out.view());
+    const float moved_m = out(11, 6) - depth(11, 6);  // beside the step, pulled towards the far side?
+    if (base_m < 1.0f) {
+      EXPECT_LT(moved_m, 1e-4f) << "near step must survive";
+    } else {
+      EXPECT_GT(moved_m, 4e-3f) << "far quantisation-size step must be smoothed";
+    }
+  }
 }
 
 TEST(BilateralDepth, ConstantImageIsUnchangedEverywhere) {
@@ -58,7 +80,7 @@ TEST(BilateralDepth, PerspectivePlaneIsUnchangedInTheInterior) {
 }
 
 TEST(BilateralDepth, StepEdgeIsPreserved) {
-  // A 0.5 m step is ~17 σ_range: weights across it are exp(−139), far below float resolution.
+  // A 0.5 m step at 1 m is ~80 σ_range: weights across it are far below float resolution.
   Image<float> depth(24, 12);
   fillImage(depth, [](int x, int) { return x < 12 ? 1.0f : 1.5f; });
   Image<float> out(24, 12);
@@ -98,7 +120,8 @@ TEST(BilateralDepth, TwoValidPixelsGiveTheWeightedMean) {
   const double d1 = static_cast<double>(1.01f);
   const auto weight = [](double centre, double other) {
     const double diff = centre * centre * (1.0 / other - 1.0 / centre);
-    return std::exp(-1.0 / (2.0 * 4.5 * 4.5) - diff * diff / (2.0 * 0.03 * 0.03));
+    const double sigma_range = 3.0 * (0.0012 + 0.0019 * (centre - 0.4) * (centre - 0.4));
+    return std::exp(-1.0 / (2.0 * 4.5 * 4.5) - diff * diff / (2.0 * sigma_range * sigma_range));
   };
   const double w0 = weight(d0, d1);
   const double w1 = weight(d1, d0);

@@ -27,6 +27,7 @@ class PreprocessCpu {
   void run();
 
   const Image<float>& rawDepth() const { return raw_depth_m_; }
+  const Image<VertexPixel>& filteredVertices() const { return filtered_vertices_; }
   const Level& level(int l) const { return levels_[l]; }
 
  private:
@@ -35,6 +36,7 @@ class PreprocessCpu {
   ImageView<const std::uint16_t> depth_raw_;
   ImageView<const Rgb8> rgb_;
   Image<float> raw_depth_m_;
+  Image<VertexPixel> filtered_vertices_;  ///< level 0, input of the level-0 normals
   std::vector<Level> levels_;
 };
 

@@ -28,12 +28,19 @@ struct PreprocessOptions {
   BilateralDepthParams bilateral;     ///< width/height are taken from `camera`
   float pyramid_range_gate_m = 0.09f; ///< depth pyramid: neighbours farther from the centre are ignored [m]
   RgbToIntensityParams intensity;     ///< width/height are taken from `camera`
-  NormalMapParams normals;            ///< width/height are set per level
+  NormalMapParams normals;            ///< width, height and span_px are set per level
+  /// Half-baseline of the normals' central differences as a viewing angle [rad]: span_px at a level
+  /// is max(1, round(normal_span_rad · fx)), so 4 px at 640 × 480 (fx ≈ 480), 2 px at 320 × 240, and
+  /// the normals describe the same surface patch at every resolution and pyramid level.
+  float normal_span_rad = 0.012f;
   uint32_t workgroup_size = 16;       ///< square workgroups of workgroup_size² invocations
 
   /// Throws vifusion::Error naming the field: odd width (packed depth), too many levels for the
   /// image, non-positive scales, sigmas or gates, min depth ≥ max depth.
   void validate() const;
+
+  /// normal_map parameters for the pyramid level whose camera is `level_camera`.
+  NormalMapParams normalParams(const PinholeCamera& level_camera) const;
 };
 
 /// The steps in recording order; benchmarks record them one at a time.
@@ -44,11 +51,19 @@ inline constexpr PreprocessStep kAllPreprocessSteps[] = {PreprocessStep::MetricA
 const char* preprocessStepName(PreprocessStep step);
 
 /// Buffer ids of one pyramid level (device-local; valid in the arena built from the plan).
+///
+/// Level 0's vertices come from the UNFILTERED depth and only its normals from the filtered depth:
+/// the bilateral filter rounds corners and edges differently from every viewpoint, and tracking or
+/// fusing filtered points pulls the pose by several millimetres per frame even on noise-free data
+/// (measured: 7 mm after one frame at 640 × 480); the raw points are unbiased and their noise
+/// averages out over the image. Normals need the filter: structured-light depth is quantised into
+/// plateaus whose one-pixel normals face the camera. Coarser levels are built from the filtered depth
+/// and only seed the finer ones.
 struct LevelBuffers {
   gpu::BufferId depth_m;     ///< filtered metric depth, float [m], 0 = invalid
   gpu::BufferId intensity;   ///< float [0..255]
-  gpu::BufferId vertices;    ///< VertexPixel, camera frame [m]
-  gpu::BufferId normals;     ///< NormalPixel
+  gpu::BufferId vertices;    ///< VertexPixel, camera frame [m]; level 0 from the unfiltered depth
+  gpu::BufferId normals;     ///< NormalPixel, from the filtered depth
   gpu::BufferId gradients;   ///< GradientPixel [intensity / px]
 };
 
@@ -72,8 +87,10 @@ class PreprocessStage {
   const PreprocessOptions& options() const { return options_; }
   int levels() const { return options_.levels; }
   const PinholeCamera& camera(int level) const { return cameras_[level]; }
-  /// Unfiltered metric depth of level 0 (surfel positions come from it).
+  /// Unfiltered metric depth of level 0.
   gpu::BufferId rawDepth() const { return raw_depth_m_; }
+  /// Level-0 vertices of the FILTERED depth, from which the level-0 normals are computed.
+  gpu::BufferId filteredVertices() const { return filtered_vertices_; }
   /// The packed RGB888 upload buffer (surfel colours are read from it).
   gpu::BufferId rgbWords() const { return rgb_words_; }
   const LevelBuffers& level(int level) const { return levels_[level]; }
@@ -87,6 +104,7 @@ class PreprocessStage {
   gpu::BufferId depth_words_;
   gpu::BufferId rgb_words_;
   gpu::BufferId raw_depth_m_;
+  gpu::BufferId filtered_vertices_;
   std::vector<LevelBuffers> levels_;
   const gpu::MemoryArena* arena_ = nullptr;
   std::unique_ptr<Kernels> kernels_;

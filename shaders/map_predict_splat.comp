@@ -1,9 +1,9 @@
 #version 450
 // map_predict_splat: the two atomic passes of model prediction (shaders/include/map/prediction.glsl
 // says which surfels are rendered and how a disk is splatted). Compiled twice:
-//   VIFUSION_SPLAT_PASS=0 (map_predict_depth): every covered pixel takes the atomicMin of the
-//     intersection depth's float bits — for positive floats the bit order is the numeric order.
-//   VIFUSION_SPLAT_PASS=1 (map_predict_id): every surfel whose depth at a pixel is ≤ that minimum
+//   VIFUSION_SPLAT_PASS=0 (map_predict_depth): every covered pixel takes the atomicMin of its
+//     splatKey (centre pixels first, then the intersection depth).
+//   VIFUSION_SPLAT_PASS=1 (map_predict_id): every surfel whose key at a pixel is ≤ that minimum
 //     takes the atomicMin of its index, so exact ties go to the lowest index, deterministically.
 //     "≤" rather than "==" keeps a pixel covered even if a driver recomputed the depth one ulp
 //     lower (the helpers are `precise`, so it should not).
@@ -50,7 +50,7 @@ void main() {
         vec3 q_C;
         if (!splatPixel(s, ivec2(x, y), p.view, q_C)) continue;
         const uint pixel = uint(y * p.view.width + x);
-        const uint bits = floatBitsToUint(q_C.z);
+        const uint bits = splatKey(f, ivec2(x, y), q_C.z);
 #if VIFUSION_SPLAT_PASS == 0
         atomicMin(depth_bits[pixel], bits);
 #else

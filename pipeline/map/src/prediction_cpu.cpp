@@ -16,7 +16,13 @@ struct CameraSurfel {
 
 struct Footprint {
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;
+  int centre_x = -1, centre_y = -1;  ///< the pixel the centre projects into
 };
+
+std::uint32_t splatKey(const Footprint& f, int x, int y, float depth_m) {
+  const std::uint32_t disk_only = x == f.centre_x && y == f.centre_y ? 0u : 0x80000000u;
+  return disk_only | (std::bit_cast<std::uint32_t>(depth_m) >> 1);
+}
 
 bool isRendered(const Surfel& surfel, const PredictionParams& params) {
   if (framesSinceCpu(params.view, surfel.colour_times.z()) > params.time_window_frames) return false;
@@ -48,6 +54,8 @@ Footprint footprintOf(const CameraSurfel& s, const PredictionParams& params) {
   const float half_y = radius_m * std::abs(view.fy) * inv_z;
   const float centre_x = std::floor(uv.x() + 0.5f);
   const float centre_y = std::floor(uv.y() + 0.5f);
+  f.centre_x = static_cast<int>(centre_x);
+  f.centre_y = static_cast<int>(centre_y);
   f.x0 = static_cast<int>(std::max(std::max(std::ceil(uv.x() - half_x), centre_x - cap), 0.0f));
   f.x1 = static_cast<int>(std::min(std::min(std::floor(uv.x() + half_x), centre_x + cap), static_cast<float>(view.width - 1)));
   f.y0 = static_cast<int>(std::max(std::max(std::ceil(uv.y() - half_y), centre_y - cap), 0.0f));
@@ -123,7 +131,7 @@ void splatModelCpu(std::span<const Surfel> surfels, const PredictionParams& para
     std::fill_n(depth_bits.row(y), depth_bits.width, 0xffffffffu);
     std::fill_n(ids.row(y), ids.width, kNoSurfel);
   }
-  // One pass in index order with the (depth bits, index) lexicographic minimum is what the GPU's
+  // One pass in index order with the (key, index) lexicographic minimum is what the GPU's
   // two atomic passes compute.
   for (std::size_t i = 0; i < surfels.size(); ++i) {
     if (!isRendered(surfels[i], params)) continue;
@@ -134,7 +142,7 @@ void splatModelCpu(std::span<const Surfel> surfels, const PredictionParams& para
       for (int x = f.x0; x <= f.x1; ++x) {
         Eigen::Vector3f q_C;
         if (!splatPixel(s, x, y, params.view, q_C)) continue;
-        const std::uint32_t bits = std::bit_cast<std::uint32_t>(q_C.z());
+        const std::uint32_t bits = splatKey(f, x, y, q_C.z());
         if (bits < depth_bits(x, y)) {
           depth_bits(x, y) = bits;
           ids(x, y) = static_cast<std::uint32_t>(i);

@@ -73,7 +73,7 @@ class ModelPrediction {
   int levels() const { return options_.levels; }
   const PinholeCamera& camera(int level) const { return cameras_.at(static_cast<std::size_t>(level)); }
   const ModelLevelBuffers& level(int level) const { return levels_.at(static_cast<std::size_t>(level)); }
-  gpu::BufferId splatDepthBits() const { return depth_bits_; }  ///< uint per level-0 pixel
+  gpu::BufferId splatDepthBits() const { return depth_bits_; }  ///< splat key (prediction.glsl) per level-0 pixel
   gpu::BufferId splatIds() const { return ids_; }               ///< uint per level-0 pixel, kNoSurfel = none
 
  private:

@@ -57,8 +57,9 @@ Eigen::Vector3f rotateVectorCpu(const MapView& view, const Eigen::Vector3f& n_W)
 Eigen::Vector2f projectPointCpu(const MapView& view, const Eigen::Vector3f& p_C);
 std::uint32_t framesSinceCpu(const MapView& view, float frame);
 
-/// Both splat passes: per pixel the float bits of the nearest disk intersection depth
-/// (0xffffffff = none) and the lowest index of the surfels at that depth (kNoSurfel = none).
+/// Both splat passes: per pixel the smallest splat key (prediction.glsl: centre pixels first, then
+/// the disk intersection depth; 0xffffffff = none) and the lowest index of the surfels with that key
+/// (kNoSurfel = none).
 /// Images are level-0 sized; surfels are the live ones (surfel_count of them).
 void splatModelCpu(std::span<const Surfel> surfels, const PredictionParams& params, ImageView<std::uint32_t> depth_bits,
                    ImageView<std::uint32_t> ids);

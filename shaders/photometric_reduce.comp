@@ -6,7 +6,8 @@
 // for T_ref_cur ← exp(δ)·T_ref_cur, δ = [ρ, φ]. I_ref and ∇I_ref are sampled bilinearly.
 // Gates: current vertex valid, π(q) inside the image with its 2×2 neighbourhood, reference depth
 // at π(q) valid and within max_depth_difference_m of q.z (occlusions), ‖∇I_ref‖ ≥ min_gradient.
-// Weight: 1/σ_I² times a Huber weight on r/σ_I.
+// Weight: 1/σ² times a Huber weight on r/σ, σ² = σ_I² + (σ_px·‖∇I_ref‖)² (intensity noise plus the
+// positional uncertainty of the predicted reference image, PhotometricOptions).
 //
 // binding 0: current vertices     vec4[w·h]   camera frame [m]
 // binding 1: current intensity    float[w·h]  0..255
@@ -66,10 +67,12 @@ void neAddItem(inout float acc[NE_TERMS], int i) {
   const vec3 g = vec3(gradient.x * params.fx * inv_z, gradient.y * params.fy * inv_z,
                       -(gradient.x * params.fx * q.x + gradient.y * params.fy * q.y) * inv_z * inv_z);
   const vec3 qxg = cross(q, g);
-  const float normalised = abs(r) / params.sigma_intensity;
+  const float variance = params.sigma_intensity * params.sigma_intensity +
+                         params.sigma_position_px * params.sigma_position_px * dot(gradient, gradient);
+  const float normalised = abs(r) / sqrt(variance);
   const float huber = normalised <= params.huber_k ? 1.0 : params.huber_k / normalised;
   const float J[6] = float[6](g.x, g.y, g.z, qxg.x, qxg.y, qxg.z);
-  neAccumulate(acc, J, r, huber / (params.sigma_intensity * params.sigma_intensity));
+  neAccumulate(acc, J, r, huber / variance);
 }
 
 void main() { neReduceItems(params.width * params.height); }

@@ -50,11 +50,13 @@ NormalEquations6 photometricNormalEquationsCpu(ImageView<const preprocess::Verte
       const Vector3f g(gradient.x() * params.fx * inv_z, gradient.y() * params.fy * inv_z,
                        -(gradient.x() * params.fx * q.x() + gradient.y() * params.fy * q.y()) * inv_z * inv_z);
       const Vector3f qxg = q.cross(g);
-      const float normalised = std::abs(r) / params.sigma_intensity;
+      const float variance = params.sigma_intensity * params.sigma_intensity +
+                             params.sigma_position_px * params.sigma_position_px * gradient.squaredNorm();
+      const float normalised = std::abs(r) / std::sqrt(variance);
       const float huber = normalised <= params.huber_k ? 1.0f : params.huber_k / normalised;
       Eigen::Matrix<double, 6, 1> J;
       J << g.cast<double>(), qxg.cast<double>();
-      sum.addRow(J, r, huber / (params.sigma_intensity * params.sigma_intensity));
+      sum.addRow(J, r, huber / variance);
     }
   }
   return sum;

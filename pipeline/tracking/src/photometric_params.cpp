@@ -19,6 +19,9 @@ void PhotometricOptions::validate() const {
   positive(huber_k, "huber_k");
   positive(max_depth_difference_m, "max_depth_difference_m");
   if (!(min_gradient >= 0.0f)) throw Error("photometric option 'min_gradient' must be ≥ 0");
+  if (!(sigma_position_px >= 0.0f && sigma_position_px <= 2.0f)) {
+    throw Error("photometric option 'sigma_position_px' must be in [0, 2]");
+  }
 }
 
 PhotometricParams PhotometricParams::make(const SE3d& T_ref_cur, const PinholeCamera& camera,
@@ -29,6 +32,7 @@ PhotometricParams PhotometricParams::make(const SE3d& T_ref_cur, const PinholeCa
   params.huber_k = options.huber_k;
   params.min_gradient = options.min_gradient;
   params.max_depth_difference_m = options.max_depth_difference_m;
+  params.sigma_position_px = options.sigma_position_px;
   return params;
 }
 

@@ -9,10 +9,11 @@ struct PhotometricParams {
   float fx, fy, cx, cy;        // intrinsics at this level [px]; fy may be negative
   int width, height;           // image size at this level [px]
   float sigma_intensity;       // intensity noise σ_I (0..255 scale)
-  float huber_k;               // Huber threshold on r/σ_I
+  float huber_k;               // Huber threshold on r/σ (σ² = σ_I² + σ_px²·‖∇I_ref‖²)
   float min_gradient;          // ‖∇I_ref‖ below this carries no information [intensity/px]
   float max_depth_difference_m;  // occlusion gate |q.z − z_ref| [m]
-  float pad0, pad1;
+  float sigma_position_px;     // positional σ of the reference image [px]: adds (σ_px·‖∇I_ref‖)² to σ_I²
+  float pad0;
 };
 
 #endif

@@ -32,4 +32,19 @@ SE3d alignRigid(const std::vector<Eigen::Vector3d>& model, const std::vector<Eig
   return SE3d(Eigen::Quaterniond(R), data_mean - R * model_mean);
 }
 
+SE3d alignPoses(const std::vector<SE3d>& model, const std::vector<SE3d>& data) {
+  if (model.size() != data.size()) throw Error("alignPoses: pose sets differ in size");
+  if (model.empty()) throw Error("alignPoses: no pose pairs");
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < model.size(); ++i) sum += data[i].rotationMatrix() * model[i].rotationMatrix().transpose();
+  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(sum, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0.0) S(2, 2) = -1.0;
+  const Eigen::Matrix3d R = svd.matrixU() * S * svd.matrixV().transpose();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < model.size(); ++i) t += data[i].translation() - R * model[i].translation();
+  t /= static_cast<double>(model.size());
+  return SE3d(Eigen::Quaterniond(R), t);
+}
+
 }  // namespace vifusion::eval

@@ -1,9 +1,11 @@
 #include "vifusion/slam/dense_tracker.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <cmath>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/shaders/spirv.hpp"
 
 namespace vifusion::slam {
 
@@ -24,7 +26,7 @@ DenseTracker::DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, co
                            double depth_scale_m, const TrackerOptions& options)
     : context_(context), options_(options) {
   options_.validate();
-  preprocess::PreprocessOptions preprocess_options;
+  preprocess::PreprocessOptions preprocess_options = options_.preprocess;
   preprocess_options.camera = camera;
   preprocess_options.levels = options_.levels;
   preprocess_options.metric.depth_scale_m = static_cast<float>(depth_scale_m);
@@ -61,19 +63,28 @@ void DenseTracker::build(const gpu::MemoryArena& arena) {
 
   preprocess_sequence_ = gpu::CommandSequence::create(context_, "tracker.preprocess");
   preprocess_sequence_->record([&](gpu::CommandRecorder& recorder) { stage_->record(recorder); });
-  reference_sequence_ = gpu::CommandSequence::create(context_, "tracker.reference");
-  reference_sequence_->record([&](gpu::CommandRecorder& recorder) {
-    for (int l = 0; l < options_.levels; ++l) {
-      const preprocess::LevelBuffers& cur = stage_->level(l);
-      const preprocess::LevelBuffers& ref = reference_[l];
-      for (auto [from, to] : {std::pair{cur.depth_m, ref.depth_m}, std::pair{cur.intensity, ref.intensity},
-                              std::pair{cur.vertices, ref.vertices}, std::pair{cur.normals, ref.normals},
-                              std::pair{cur.gradients, ref.gradients}}) {
-        recorder.copyBuffer(arena.buffer(from), arena.buffer(to), arena.buffer(from).bytes);
-      }
-    }
-    recorder.computeBarrier();
-  });
+  gpu::KernelSpec gradient_spec;
+  gradient_spec.name = "intensity_gradient";
+  gradient_spec.spirv = shaders::intensity_gradient;
+  gradient_spec.storage_buffers = 2;
+  gradient_spec.push_constant_bytes = sizeof(preprocess::IntensityGradientParams);
+  gradient_spec.max_binding_sets = static_cast<uint32_t>(options_.levels);
+  gradient_kernel_ = gpu::ComputeKernel::create(context_, std::move(gradient_spec));
+  for (int l = 0; l < options_.levels; ++l) {
+    gradient_sets_.push_back(
+        gradient_kernel_->bind({&arena.buffer(reference_[l].intensity), &arena.buffer(reference_[l].gradients)}));
+  }
+  gpu::KernelSpec pyramid_spec;
+  pyramid_spec.name = "pyramid_down_intensity";
+  pyramid_spec.spirv = shaders::pyramid_down_intensity;
+  pyramid_spec.storage_buffers = 2;
+  pyramid_spec.push_constant_bytes = sizeof(preprocess::PyramidDownIntensityParams);
+  pyramid_spec.max_binding_sets = static_cast<uint32_t>(std::max(1, options_.levels - 1));
+  pyramid_kernel_ = gpu::ComputeKernel::create(context_, std::move(pyramid_spec));
+  for (int l = 1; l < options_.levels; ++l) {
+    pyramid_sets_.push_back(
+        pyramid_kernel_->bind({&arena.buffer(reference_[l - 1].intensity), &arena.buffer(reference_[l].intensity)}));
+  }
   for (int l = 0; l < options_.levels; ++l) {
     level_sequences_.push_back(gpu::CommandSequence::create(context_, "tracker.level" + std::to_string(l)));
     level_sequences_.back()->record([&](gpu::CommandRecorder& recorder) {
@@ -88,7 +99,25 @@ void DenseTracker::preprocess(const RgbdFrame& frame) {
   preprocess_sequence_->run();
 }
 
-void DenseTracker::setReferenceToCurrent() { reference_sequence_->run(); }
+void DenseTracker::recordReferenceIntensity(gpu::CommandRecorder& recorder) const {
+  for (int l = 1; l < options_.levels; ++l) {
+    const PinholeCamera& fine = stage_->camera(l - 1);
+    const PinholeCamera& coarse = stage_->camera(l);
+    const preprocess::PyramidDownIntensityParams params{fine.width, fine.height};
+    recorder.dispatch(*pyramid_kernel_, pyramid_sets_[l - 1],
+                      pyramid_kernel_->groupsFor(static_cast<uint32_t>(coarse.width), static_cast<uint32_t>(coarse.height)),
+                      params);
+    recorder.computeBarrier();
+  }
+  for (int l = 0; l < options_.levels; ++l) {
+    const PinholeCamera& camera = stage_->camera(l);
+    const preprocess::IntensityGradientParams params{camera.width, camera.height};
+    recorder.dispatch(*gradient_kernel_, gradient_sets_[l],
+                      gradient_kernel_->groupsFor(static_cast<uint32_t>(camera.width), static_cast<uint32_t>(camera.height)),
+                      params);
+  }
+  recorder.computeBarrier();
+}
 
 NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics) {
   const PinholeCamera& camera = stage_->camera(level);

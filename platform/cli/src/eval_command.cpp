@@ -12,6 +12,7 @@
 #include "vifusion/datasets/ground_truth_states.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/ply_points.hpp"
+#include "vifusion/eval/alignment.hpp"
 #include "vifusion/eval/reconstruction_error.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/state_errors.hpp"
@@ -98,14 +99,20 @@ int runEval(const EvalOptions& options) {
   const std::vector<eval::StampedPose> gt = eval::readTum(options.gt);
   const std::vector<eval::StampedPose> est = eval::readTum(options.est);
   const eval::AteResult ate = eval::ate(gt, est, options.max_difference_s);
-  const eval::RpeResult rpe = eval::rpe(gt, est, options.rpe_delta_s);
-
   json report;
   report["ate"] = {{"rmse_m", ate.rmse_m}, {"mean_m", ate.mean_m}, {"median_m", ate.median_m}, {"std_m", ate.std_m},
                    {"min_m", ate.min_m},   {"max_m", ate.max_m},   {"pairs", ate.pairs}};
-  report["rpe"] = {{"delta_s", options.rpe_delta_s},         {"trans_rmse_m", rpe.trans_rmse_m},
-                   {"trans_mean_m", rpe.trans_mean_m},       {"rot_rmse_deg", rpe.rot_rmse_deg},
-                   {"rot_mean_deg", rpe.rot_mean_deg},       {"pairs", rpe.pairs}};
+  // A run shorter than two RPE steps has no relative error to report; that is not a failure of the
+  // run, so the report says why instead of exiting.
+  const double span_s = est.empty() ? 0.0 : nsToSeconds(est.back().t_ns - est.front().t_ns);
+  if (span_s < 2.0 * options.rpe_delta_s) {
+    report["rpe"] = {{"delta_s", options.rpe_delta_s}, {"skipped", "estimate spans less than two RPE steps"}};
+  } else {
+    const eval::RpeResult rpe = eval::rpe(gt, est, options.rpe_delta_s);
+    report["rpe"] = {{"delta_s", options.rpe_delta_s},         {"trans_rmse_m", rpe.trans_rmse_m},
+                     {"trans_mean_m", rpe.trans_mean_m},       {"rot_rmse_deg", rpe.rot_rmse_deg},
+                     {"rot_mean_deg", rpe.rot_mean_deg},       {"pairs", rpe.pairs}};
+  }
 
   std::optional<eval::StateErrors> state_errors;
   if (!options.states.empty()) {
@@ -127,10 +134,18 @@ int runEval(const EvalOptions& options) {
   }
 
   if (!options.map.empty()) {
-    // The true surface is the simulator's analytic living room, in the ground truth's world.
+    // The true surface is the simulator's analytic living room, in the ground truth's world. The map
+    // is aligned by the associated poses (alignPoses), not by ATE's position-only alignment, whose
+    // rotation a short or straight trajectory leaves undetermined.
+    std::vector<SE3d> est_poses, gt_poses;
+    for (std::size_t i = 0; i < ate.pairs; ++i) {
+      est_poses.push_back(est[ate.est_index[i]].T_world_body);
+      gt_poses.push_back(gt[ate.gt_index[i]].T_world_body);
+    }
     const scene::LivingRoom room;
     const eval::ReconstructionError error = eval::reconstructionError(
-        eval::readPlyPositions(options.map), ate.T_gt_est, [&](const Eigen::Vector3d& p_W) { return room.distanceToSurface(p_W); });
+        eval::readPlyPositions(options.map), eval::alignPoses(est_poses, gt_poses),
+        [&](const Eigen::Vector3d& p_W) { return room.distanceToSurface(p_W); });
     report["reconstruction"] = {{"mean_m", error.mean_m}, {"median_m", error.median_m}, {"rms_m", error.rms_m},
                                 {"within_1cm", error.within_1cm}, {"points", error.points}};
   }

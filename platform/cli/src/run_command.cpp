@@ -12,7 +12,8 @@
 #include "vifusion/datasets/dataset_reader.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
-#include "vifusion/slam/rgbd_odometry.hpp"
+#include "vifusion/map/surfel_ply.hpp"
+#include "vifusion/slam/rgbd_slam.hpp"
 
 namespace vifusion::cli {
 namespace {
@@ -47,9 +48,9 @@ int runPipeline(const RunOptions& options) {
   gpu::GpuOptions gpu_options;
   gpu_options.device = options.device;
   const auto context = gpu::GpuContext::create(gpu_options.withEnvironment());
-  slam::TrackerOptions tracker_options;
-  tracker_options.use_photometric = options.photometric;
-  slam::RgbdOdometry pipeline(*context, reader->calibration(), tracker_options);
+  slam::SlamOptions slam_options;
+  slam_options.tracker.use_photometric = options.photometric;
+  slam::RgbdSlam pipeline(*context, reader->calibration(), slam_options);
 
   const std::size_t total = options.max_frames > 0 ? std::min<std::size_t>(options.max_frames, reader->frameCount())
                                                    : reader->frameCount();
@@ -57,7 +58,8 @@ int runPipeline(const RunOptions& options) {
   trajectory.reserve(total);
   RgbdFrame frame;
   int lost = 0;
-  double preprocess_ms = 0.0, tracking_ms = 0.0, iterations = 0.0;
+  double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
+  uint32_t surfels = 0, map_overflow = 0;
   ProgressBar progress("tracking", static_cast<int64_t>(total));
   const auto start = std::chrono::steady_clock::now();
   while (trajectory.size() < total && reader->nextFrame(frame)) {
@@ -66,6 +68,9 @@ int runPipeline(const RunOptions& options) {
     lost += result.lost ? 1 : 0;
     preprocess_ms += result.preprocess_ms;
     tracking_ms += result.tracking_ms;
+    mapping_ms += result.mapping_ms;
+    surfels = result.surfels;
+    map_overflow = result.map_overflow;
     iterations += result.iterations;
     progress.update(static_cast<int64_t>(trajectory.size()));
   }
@@ -84,7 +89,11 @@ int runPipeline(const RunOptions& options) {
       {"device", context->features().device_name},
       {"frames", frames},
       {"lost_frames", lost},
-      {"ms_per_frame", {{"preprocess", mean(preprocess_ms, frames)}, {"tracking", mean(tracking_ms, frames)}}},
+      {"ms_per_frame",
+       {{"preprocess", mean(preprocess_ms, frames)}, {"tracking", mean(tracking_ms, frames)},
+        {"mapping", mean(mapping_ms, frames)}}},
+      {"surfels", surfels},
+      {"map_overflow_surfels", map_overflow},
       {"gauss_newton_iterations_per_frame", mean(iterations, frames)},
       {"frames_per_s", frames / wall_s},
       {"arena_bytes", pipeline.arenaBytes()}};
@@ -94,6 +103,14 @@ int runPipeline(const RunOptions& options) {
     const eval::AteResult ate = eval::ate(ground_truth, trajectory);
     report["ate_rmse_m"] = ate.rmse_m;
   }
+  // Stable surfels only (confidence ≥ the map's threshold), as ElasticFusion exports: the
+  // unstable ones are mostly single-view noise that tracking never renders.
+  std::vector<map::Surfel> map_surfels;
+  pipeline.exportMap(map_surfels);
+  const std::size_t map_points = map::writeSurfelPly(std::filesystem::path(options.out) / "map.ply", map_surfels,
+                                                     map::SurfelPlyOptions::stableOnly(slam_options.map));
+  report["map_ply_surfels"] = map_points;
+
   const std::filesystem::path report_path = std::filesystem::path(options.out) / "report.json";
   {
     std::FILE* file = std::fopen((report_path.string() + ".tmp").c_str(), "w");

@@ -47,5 +47,22 @@ TEST(Alignment, RejectsTooFewOrMismatchedPoints) {
   expectError([&] { alignRigid(two, three); }, "differ in size");
 }
 
+TEST(Alignment, PosesDetermineTheRotationThatAStraightPathLeavesFree) {
+  // Positions on a line leave the rotation about it free for alignRigid; the poses fix it.
+  const SE3d T_data_model(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, 1.0, -0.3).normalized())),
+                          Eigen::Vector3d(1.5, -0.2, 3.0));
+  std::vector<SE3d> model;
+  std::vector<SE3d> data;
+  for (int i = 0; i < 10; ++i) {
+    model.emplace_back(Eigen::Quaterniond(Eigen::AngleAxisd(0.01 * i, Eigen::Vector3d::UnitY())),
+                       Eigen::Vector3d(0.002 * i, 0.0, 0.0));
+    data.push_back(T_data_model * model.back());
+  }
+  const SE3d T = alignPoses(model, data);
+  EXPECT_LT(T.quaternion().angularDistance(T_data_model.quaternion()), 1e-12);
+  EXPECT_LT((T.translation() - T_data_model.translation()).norm(), 1e-12);
+  expectError([&] { alignPoses({}, {}); }, "no pose pairs");
+}
+
 }  // namespace
 }  // namespace vifusion::eval

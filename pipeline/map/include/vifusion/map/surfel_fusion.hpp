@@ -29,7 +29,7 @@ struct FusionInputs {
   gpu::BufferId normals;    ///< NormalPixel, camera frame
   gpu::BufferId rgb_words;  ///< packed RGB888 upload (preprocess/packing.hpp)
 
-  /// Level-0 maps of `stage` and its RGB upload buffer.
+  /// Level-0 vertices (unfiltered depth) and normals (filtered depth) of `stage`, and its RGB upload.
   static FusionInputs fromPreprocess(const preprocess::PreprocessStage& stage);
 };
 

@@ -2,9 +2,9 @@
 // Dense RGB-D tracking on the GPU: preprocesses each frame, then aligns it to a reference view by
 // Gauss-Newton over the ICP and photometric terms, coarse to fine. The two terms are each weighted
 // by their inverse measurement variances inside the kernels (depth noise model, intensity noise), so
-// their normal equations simply add: no hand-tuned λ between them. The reference view is, for now,
-// the previous frame (frame-to-frame odometry); the surfel map's prediction replaces it as soon as
-// the map lands, through the same reference buffers.
+// their normal equations simply add: no hand-tuned λ between them. The reference view is the surfel
+// map's prediction: its owner copies the predicted vertex and normal maps into reference(l) at every
+// level and the intensity into reference(0), then records recordReferenceIntensity().
 
 #include <array>
 #include <memory>
@@ -29,6 +29,8 @@ struct TrackerOptions {
   /// Stop a level early when the step is below this (translation [m] and rotation [rad]).
   double converged_step = 1e-5;
   bool use_photometric = true;
+  /// Filter, pyramid and normal settings; camera, levels and depth scale are set by the tracker.
+  preprocess::PreprocessOptions preprocess;
   tracking::IcpOptions icp;
   tracking::PhotometricOptions photometric;
   /// Tracking is lost when fewer than this fraction of the level-0 pixels with valid depth end up
@@ -65,9 +67,17 @@ class DenseTracker {
   void preprocess(const RgbdFrame& frame);
   /// Aligns the preprocessed frame to the reference view starting from `T_ref_cur_guess`.
   TrackingResult track(const SE3d& T_ref_cur_guess);
-  /// Makes the current (preprocessed) frame the reference view for the next one.
-  void setReferenceToCurrent();
 
+  /// Buffers of the reference view at `level` (vertices, normals, intensity in the reference camera
+  /// frame; coarser intensities and all gradients are derived by recordReferenceIntensity).
+  const preprocess::LevelBuffers& reference(int level) const { return reference_[level]; }
+  /// Records the reference's intensity pyramid from its level 0, with the current frame's Gaussian
+  /// (a point-sampled model at the coarse levels would see sharper edges than the blurred current
+  /// frame, and the coarse photometric solution would start level 0 outside its basin — measured:
+  /// 8 mm after one frame instead of 1 mm), then its gradients at every level.
+  void recordReferenceIntensity(gpu::CommandRecorder& recorder) const;
+
+  const preprocess::PreprocessStage& preprocessing() const { return *stage_; }
   const PinholeCamera& camera(int level) const { return stage_->camera(level); }
 
  private:
@@ -81,7 +91,10 @@ class DenseTracker {
   std::unique_ptr<tracking::PhotometricTerm> photometric_;
   const gpu::MemoryArena* arena_ = nullptr;
   std::unique_ptr<gpu::CommandSequence> preprocess_sequence_;
-  std::unique_ptr<gpu::CommandSequence> reference_sequence_;
+  std::unique_ptr<gpu::ComputeKernel> gradient_kernel_;
+  std::vector<gpu::BindingSet> gradient_sets_;
+  std::unique_ptr<gpu::ComputeKernel> pyramid_kernel_;
+  std::vector<gpu::BindingSet> pyramid_sets_;  ///< level l−1 → l, for l ≥ 1
   std::vector<std::unique_ptr<gpu::CommandSequence>> level_sequences_;
 };
 

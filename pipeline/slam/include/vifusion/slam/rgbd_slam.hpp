@@ -1,0 +1,90 @@
+#pragma once
+// RGB-D mode of the pipeline (ElasticFusion without loop closure): every frame is tracked by the
+// dense tracker against the surfel map's prediction at the previous pose (frame-to-model), then
+// fused into the map, the map is cleaned and compacted, and the prediction for the next frame is
+// rendered — all in one command sequence per map parity, recorded once. W is the first camera frame
+// (DESIGN §3).
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "vifusion/core/rig_calibration.hpp"
+#include "vifusion/core/se3.hpp"
+#include "vifusion/core/sensor_data.hpp"
+#include "vifusion/gpu/command_sequence.hpp"
+#include "vifusion/gpu/gpu_context.hpp"
+#include "vifusion/gpu/memory_arena.hpp"
+#include "vifusion/map/map_buffers.hpp"
+#include "vifusion/map/map_export.hpp"
+#include "vifusion/map/map_maintenance.hpp"
+#include "vifusion/map/model_prediction.hpp"
+#include "vifusion/map/surfel_fusion.hpp"
+#include "vifusion/slam/dense_tracker.hpp"
+
+namespace vifusion::slam {
+
+struct SlamOptions {
+  TrackerOptions tracker;
+  map::MapOptions map;
+  map::FusionOptions fusion;
+  map::MaintenanceOptions maintenance;
+  map::PredictionOptions prediction;  ///< `levels` is taken from the tracker
+
+  /// Throws vifusion::Error naming the field out of range.
+  void validate() const;
+};
+
+struct FrameResult {
+  int64_t t_ns = 0;
+  SE3d T_W_C;                   ///< camera pose in the map world (first camera frame)
+  bool lost = false;            ///< tracking failed: the pose is the constant-velocity prediction, not fused
+  double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
+  double icp_candidates = 0.0;  ///< level-0 pixels with valid depth
+  double rgb_inliers = 0.0;     ///< level-0 photometric inliers of the last iteration
+  int iterations = 0;           ///< Gauss-Newton iterations over all levels
+  uint32_t surfels = 0;         ///< surfels in the map after this frame
+  uint32_t map_overflow = 0;    ///< surfels that did not fit so far (map-full policy: map.hpp)
+  double preprocess_ms = 0.0;   ///< wall time of upload + preprocessing
+  double tracking_ms = 0.0;     ///< wall time of all Gauss-Newton iterations
+  double mapping_ms = 0.0;      ///< wall time of fusion, cleanup, compaction and prediction
+};
+
+class RgbdSlam {
+ public:
+  /// Sizes every GPU buffer (tracker, map, prediction) for the calibration's camera and allocates
+  /// the arena once; records every command sequence once.
+  RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options);
+  ~RgbdSlam();
+
+  /// Tracks and maps one frame. No allocation after the first call.
+  FrameResult process(const RgbdFrame& frame);
+
+  /// Reads the live surfels of the map (in W) into `surfels`, chunk by chunk through a small
+  /// staging buffer. For the end of a run or shutdown, not the per-frame path: it allocates.
+  void exportMap(std::vector<map::Surfel>& surfels) { exporter_->read(surfels); }
+
+  uint64_t arenaBytes() const { return arena_->allocatedBytes(); }
+  const gpu::MemoryArena& arena() const { return *arena_; }
+  const map::MapBuffers& map() const { return *map_; }
+
+ private:
+  void recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const;
+
+  gpu::CapacityPlan plan_;
+  std::unique_ptr<DenseTracker> tracker_;
+  std::unique_ptr<map::MapBuffers> map_;
+  std::unique_ptr<map::SurfelFusion> fusion_;
+  std::unique_ptr<map::MapMaintenance> maintenance_;
+  std::unique_ptr<map::ModelPrediction> prediction_;
+  std::unique_ptr<map::MapExport> exporter_;
+  std::unique_ptr<gpu::MemoryArena> arena_;
+  std::array<std::unique_ptr<gpu::CommandSequence>, 2> update_;        ///< per parity: fuse, clean, predict
+  std::array<std::unique_ptr<gpu::CommandSequence>, 2> predict_only_;  ///< per parity: predict (lost frames)
+  uint32_t frame_index_ = 0;
+  SE3d T_W_previous_;        ///< pose of the previous frame: the reference view's camera
+  SE3d T_previous_current_;  ///< last frame-to-frame motion: the constant-velocity guess
+};
+
+}  // namespace vifusion::slam

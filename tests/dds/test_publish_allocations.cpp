@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../gpu/counting_allocations.hpp"
+#include "vifusion/test/counting_allocations.hpp"
 #include "dds_test_support.hpp"
 #include "vifusion/dds/conversions.hpp"
 #include "vifusion/dds/writer.hpp"

@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "counting_allocations.hpp"
+#include "vifusion/test/counting_allocations.hpp"
 #include "counting_vulkan.hpp"
 #include "gpu_test_environment.hpp"
 #include "vifusion/test/seven_scenes_frame.hpp"

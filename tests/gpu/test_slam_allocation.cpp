@@ -10,7 +10,7 @@
 #include <cmath>
 #include <vector>
 
-#include "counting_allocations.hpp"
+#include "vifusion/test/counting_allocations.hpp"
 #include "counting_vulkan.hpp"
 #include "gpu_test_environment.hpp"
 #include "vifusion/scene/living_room.hpp"

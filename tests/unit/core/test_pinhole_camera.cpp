@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "random_inputs.hpp"
+#include "vifusion/test/random_inputs.hpp"
 #include "vifusion/core/numeric_diff.hpp"
 #include "vifusion/core/pinhole_camera.hpp"
 #include "vifusion/test/eigen_asserts.hpp"

@@ -7,7 +7,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 #include <vector>
 
-#include "random_inputs.hpp"
+#include "vifusion/test/random_inputs.hpp"
 #include "vifusion/core/numeric_diff.hpp"
 #include "vifusion/core/so3.hpp"
 #include "vifusion/test/eigen_asserts.hpp"

@@ -3,7 +3,7 @@
 #include <numbers>
 #include <vector>
 
-#include "random_inputs.hpp"
+#include "vifusion/test/random_inputs.hpp"
 #include "vifusion/core/numeric_diff.hpp"
 #include "vifusion/core/so3.hpp"
 #include "vifusion/core/state.hpp"

@@ -11,7 +11,7 @@
 #include <numbers>
 #include <vector>
 
-#include "../core/random_inputs.hpp"
+#include "vifusion/test/random_inputs.hpp"
 #include "vifusion/core/se3.hpp"
 #include "vifusion/core/sensor_data.hpp"
 #include "vifusion/core/so3.hpp"

@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "counting_allocations.hpp"
+#include "vifusion/test/counting_allocations.hpp"
 #include "imu_test_utils.hpp"
 #include "vifusion/imu/imu_error.hpp"
 #include "vifusion/imu/preintegration.hpp"

@@ -1,4 +1,4 @@
-#include "counting_allocations.hpp"
+#include "vifusion/test/counting_allocations.hpp"
 
 #include <atomic>
 #include <cstdlib>

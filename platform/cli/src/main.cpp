@@ -7,6 +7,7 @@
 #include "eval_command.hpp"
 #include "gpu_self_check.hpp"
 #include "run_command.hpp"
+#include "service_commands.hpp"
 #include "sim_command.hpp"
 #include "vifusion/core/error.hpp"
 
@@ -69,12 +70,36 @@ int main(int argc, char** argv) {
   sim_command->add_flag("!--no-noise", sim.noise, "No image noise and no IMU white noise");
   sim_command->add_flag("!--no-biases", sim.biases, "No IMU biases");
 
+  const auto add_dds_options = [](CLI::App* command, vifusion::cli::DdsSelection& dds) {
+    command->add_option("--config", dds.config_file,
+                        "vifusiond YAML whose dds.* keys to use (default: /etc/vifusion/vifusiond.yaml if present)");
+    command->add_option("--dds-config", dds.dds_config, "Cyclone DDS XML (file, file:// URI or inline)");
+    command->add_option("--domain", dds.domain, "DDS domain id (default: the config's dds.domain)")->check(CLI::Range(0, 232));
+    command->add_option("--partition", dds.partition, "DDS partition (default: the config's dds.partition)");
+  };
+  vifusion::cli::EchoCommandOptions echo;
+  CLI::App* echo_command = app.add_subcommand("echo", "Print the samples of one of vifusion's DDS topics as JSON lines");
+  echo_command->add_option("topic", echo.topic, "rt/vifusion/odometry or /vifusion/odometry, rt/tf, rt/diagnostics, ...")
+      ->required();
+  echo_command->add_option("--count", echo.count, "Stop after this many samples (0: no limit)")->capture_default_str();
+  echo_command->add_option("--timeout", echo.timeout_s, "Give up after this many seconds (0: never)")->capture_default_str();
+  echo_command->add_flag("--full-arrays", echo.full_arrays, "Print byte arrays (PointCloud2 data) in full");
+  add_dds_options(echo_command, echo.dds);
+
+  vifusion::cli::StatusCommandOptions status;
+  CLI::App* status_command = app.add_subcommand(
+      "status", "Read rt/vifusion/status and rt/diagnostics once and print the service's state and health verdict");
+  status_command->add_option("--timeout", status.timeout_s, "Wait at most this many seconds")->capture_default_str();
+  add_dds_options(status_command, status.dds);
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (self_check_command->parsed()) return vifusion::cli::runGpuSelfCheck(self_check);
     if (run->parsed()) return vifusion::cli::runPipeline(run_options);
     if (eval_command->parsed()) return vifusion::cli::runEval(eval);
     if (sim_command->parsed()) return vifusion::cli::runSim(sim);
+    if (echo_command->parsed()) return vifusion::cli::runEcho(echo);
+    if (status_command->parsed()) return vifusion::cli::runStatus(status);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "vifusion: %s\n", error.what());
     return 2;

@@ -1,0 +1,116 @@
+#include "service_commands.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "vifusion/config/yaml_loader.hpp"
+#include "vifusion/core/time.hpp"
+#include "vifusion/dds/echo.hpp"
+#include "vifusion/dds/reader.hpp"
+
+namespace vifusion::cli {
+namespace {
+
+constexpr const char* kSystemConfig = "/etc/vifusion/vifusiond.yaml";
+
+dds::ParticipantOptions participantOptions(const DdsSelection& selection) {
+  config::DaemonConfig daemon;
+  if (!selection.config_file.empty()) {
+    config::loadYamlFile(selection.config_file, daemon);
+  } else if (std::filesystem::exists(kSystemConfig)) {
+    config::loadYamlFile(kSystemConfig, daemon);
+  }
+  dds::ParticipantOptions options{daemon.dds.domain, daemon.dds.config, daemon.dds.partition};
+  if (!selection.dds_config.empty()) options.config = selection.dds_config;
+  if (selection.domain >= 0) options.domain_id = static_cast<std::uint32_t>(selection.domain);
+  if (!selection.partition.empty()) options.partition = selection.partition;
+  return options;
+}
+
+const char* levelName(std::uint8_t level) {
+  switch (level) {
+    case 0: return "OK";
+    case 1: return "WARN";
+    case 2: return "ERROR";
+    case 3: return "STALE";
+  }
+  return "?";
+}
+
+const char* trackingName(std::uint8_t state) {
+  switch (static_cast<dds::msg::TrackingState>(state)) {
+    case dds::msg::TrackingState::Ok: return "tracking";
+    case dds::msg::TrackingState::Lost: return "LOST";
+    case dds::msg::TrackingState::Initialising: return "initialising";
+  }
+  return "?";
+}
+
+}  // namespace
+
+int runEcho(const EchoCommandOptions& options) {
+  dds::EchoOptions echo;
+  try {
+    echo.participant = participantOptions(options.dds);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "vifusion echo: %s\n", error.what());
+    return dds::kEchoFailed;
+  }
+  echo.topic = options.topic;
+  echo.count = options.count;
+  echo.timeout_ns = secondsToNs(options.timeout_s);
+  echo.full_arrays = options.full_arrays;
+  return dds::echo(echo, stdout);
+}
+
+int runStatus(const StatusCommandOptions& options) {
+  const dds::Participant participant(participantOptions(options.dds));
+  dds::Reader<dds::msg::Status> status_reader(participant, dds::topics::kStatus);
+  dds::Reader<dds::msg::DiagnosticArray> diagnostics_reader(participant, dds::topics::kDiagnostics);
+  const std::int64_t deadline_ns = monotonicNowNs() + secondsToNs(options.timeout_s);
+  bool have_status = false, have_diagnostics = false, all_ok = true;
+  std::string status_text, diagnostics_text;
+  while ((!have_status || !have_diagnostics) && monotonicNowNs() < deadline_ns) {
+    const std::int64_t left_ns = std::max<std::int64_t>(0, deadline_ns - monotonicNowNs());
+    status_reader.waitForData(std::min<std::int64_t>(left_ns, 50 * kNsPerMillisecond));
+    if (!have_status) {
+      status_reader.take([&](const dds::msg::Status& s) {
+        char line[320];
+        std::snprintf(line, sizeof(line),
+                      "vifusiond: %s, %.1f frames/s, latency %.0f ms, %llu frames (%llu lost), %u surfels, "
+                      "camera ring %u/%u (%llu overruns), heartbeat %llu\n",
+                      trackingName(s.tracking_state), static_cast<double>(s.frame_rate_hz),
+                      static_cast<double>(s.latency_ms), static_cast<unsigned long long>(s.frames_processed),
+                      static_cast<unsigned long long>(s.lost_frames), s.surfel_count, s.camera_ring.fill,
+                      s.camera_ring.capacity, static_cast<unsigned long long>(s.camera_ring.overruns),
+                      static_cast<unsigned long long>(s.heartbeat));
+        status_text = line;
+        have_status = true;
+      }, 1);
+    }
+    if (!have_diagnostics) {
+      diagnostics_reader.take([&](const dds::msg::DiagnosticArray& array) {
+        diagnostics_text.clear();
+        all_ok = true;
+        for (std::uint32_t i = 0; i < array.status._length; ++i) {
+          const dds::msg::DiagnosticStatus& s = array.status._buffer[i];
+          all_ok = all_ok && s.level == 0;
+          diagnostics_text += std::string("  ") + levelName(s.level) + "  " + s.name + ": " + s.message + "\n";
+        }
+        have_diagnostics = true;
+      }, 1);
+    }
+  }
+  std::fputs(have_status ? status_text.c_str() : "vifusiond: no rt/vifusion/status received (not running, or "
+                                                 "another DDS domain/partition?)\n", stdout);
+  if (have_diagnostics) {
+    std::printf("health: %s\n%s", all_ok ? "OK" : "NOT OK", diagnostics_text.c_str());
+  } else {
+    std::printf("health: no rt/diagnostics received (is vifusion-health running?)\n");
+  }
+  return have_status && have_diagnostics && all_ok ? 0 : 1;
+}
+
+}  // namespace vifusion::cli

@@ -1,0 +1,63 @@
+#pragma once
+// The configuration of the service (vifusiond and vifusion-health read the same file,
+// /etc/vifusion/vifusiond.yaml): plain option structs with defaults and validate(). Every field is
+// a key of the YAML file and a command-line option (config_keys.hpp lists them).
+
+#include <cstdint>
+#include <string>
+
+#include "vifusion/core/error.hpp"
+
+namespace vifusion::config {
+
+/// Exit codes of vifusiond and vifusion-health (README "Running the service").
+inline constexpr int kExitOk = 0;
+inline constexpr int kExitConfig = 2;   ///< bad configuration or command line
+inline constexpr int kExitSource = 3;   ///< the source cannot be opened or read
+inline constexpr int kExitGpu = 4;      ///< no usable Vulkan device, or the pipeline cannot be built
+inline constexpr int kExitDds = 5;      ///< the DDS participant, writers or readers cannot be created
+inline constexpr int kExitOutput = 6;   ///< trajectory.txt or map.ply cannot be written
+
+/// A configuration problem; the message names the key and, for a file, "file:line:".
+class ConfigError : public Error {
+ public:
+  using Error::Error;
+};
+
+struct DdsConfig {
+  std::uint32_t domain = 0;                            ///< DDS domain id, 0..232
+  std::string config = "/etc/vifusion/cyclonedds.xml";  ///< Cyclone XML: a file, file:// URI or inline '<…>'
+  std::string partition;                               ///< "" = the default partition (what ROS 2 uses)
+  std::string world_frame = "map";                     ///< frame_id of the map world W
+  std::string camera_frame = "camera";                 ///< frame_id of the camera C
+};
+
+/// Thresholds of vifusion-health's rules (one diagnostic status per rule).
+struct HealthConfig {
+  double period_s = 0.25;           ///< rules are judged and rt/diagnostics published this often [s]
+  double heartbeat_stale_s = 1.0;   ///< no status message for longer: STALE [s]
+  double min_frame_rate_hz = 5.0;   ///< processed frame rate below this: WARN; zero while running: ERROR [Hz]
+  double lost_error_s = 2.0;        ///< tracking lost for longer: ERROR (shorter: WARN) [s]
+  std::string led_chip;             ///< status LED's gpiochip ("gpiochip0" or a path); "" = no LED
+  std::int64_t led_line = 0;        ///< line offset of the LED on led_chip; lit while every rule is OK
+};
+
+struct DaemonConfig {
+  std::string source = "sim:living_room_0";  ///< sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE
+  std::string out = "/var/lib/vifusion";     ///< state directory: trajectory.txt, map.ply, generated sim data
+  std::string mode = "rgbd";                 ///< rgbd (rgbdi and gyro come with the IMU coupling)
+  std::int64_t max_frames = 0;               ///< stop cleanly after this many processed frames; 0: the whole source
+  bool realtime = true;                      ///< replay a dataset at its timestamps (false: as fast as possible)
+  std::string device;                        ///< GPU name filter ("" = best device)
+  std::int64_t frame_ring = 4;               ///< camera ring capacity [frames], preallocated
+  double map_publish_period_s = 5.0;         ///< rt/vifusion/map every this many seconds; 0: never
+  double status_period_s = 0.2;              ///< rt/vifusion/status every this many seconds (≥ 1 Hz)
+  std::string log_file;                      ///< log file, reopened on SIGHUP; "" = stderr (the journal)
+  DdsConfig dds;
+  HealthConfig health;
+
+  /// Throws ConfigError naming the first key whose value is out of range or not available yet.
+  void validate() const;
+};
+
+}  // namespace vifusion::config

@@ -1,0 +1,43 @@
+#include "vifusion/config/daemon_config.hpp"
+
+#include <cmath>
+
+namespace vifusion::config {
+namespace {
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw ConfigError(message);
+}
+
+bool positiveFinite(double value) { return std::isfinite(value) && value > 0.0; }
+
+}  // namespace
+
+void DaemonConfig::validate() const {
+  require(!source.empty(), "key 'source' is empty: give sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR or klg:FILE");
+  require(!out.empty(), "key 'out' is empty: give the state directory for trajectory.txt and map.ply");
+  if (mode == "rgbdi" || mode == "gyro") {
+    throw ConfigError("key 'mode' = '" + mode + "' is not available yet (the IMU coupling is not implemented); use rgbd");
+  }
+  require(mode == "rgbd", "key 'mode' = '" + mode + "' is unknown: rgbd (rgbdi and gyro come with the IMU coupling)");
+  require(max_frames >= 0, "key 'max_frames' = " + std::to_string(max_frames) + " must be >= 0 (0: the whole source)");
+  require(frame_ring >= 1 && frame_ring <= 64, "key 'frame_ring' = " + std::to_string(frame_ring) + " must be in 1..64");
+  require(std::isfinite(map_publish_period_s) && map_publish_period_s >= 0.0,
+          "key 'map_publish_period_s' must be >= 0 (0: never)");
+  require(positiveFinite(status_period_s) && status_period_s <= 1.0,
+          "key 'status_period_s' must be in (0, 1] s: health needs the status at >= 1 Hz");
+  require(dds.domain <= 232, "key 'dds.domain' = " + std::to_string(dds.domain) + " must be in 0..232");
+  require(!dds.config.empty(), "key 'dds.config' is empty: give the Cyclone DDS XML (file or inline)");
+  require(dds.partition.find_first_of("*?[]") == std::string::npos, "key 'dds.partition' must not contain * ? [ ]");
+  require(!dds.world_frame.empty() && !dds.camera_frame.empty() && dds.world_frame != dds.camera_frame,
+          "keys 'dds.world_frame' and 'dds.camera_frame' must be non-empty and different");
+  require(positiveFinite(health.period_s) && health.period_s <= 1.0, "key 'health.period_s' must be in (0, 1] s");
+  require(positiveFinite(health.heartbeat_stale_s) && health.heartbeat_stale_s >= status_period_s,
+          "key 'health.heartbeat_stale_s' must be > 0 and >= status_period_s");
+  require(std::isfinite(health.min_frame_rate_hz) && health.min_frame_rate_hz >= 0.0,
+          "key 'health.min_frame_rate_hz' must be >= 0");
+  require(std::isfinite(health.lost_error_s) && health.lost_error_s >= 0.0, "key 'health.lost_error_s' must be >= 0");
+  require(health.led_line >= 0, "key 'health.led_line' must be >= 0");
+}
+
+}  // namespace vifusion::config

@@ -1,0 +1,53 @@
+#include "frame_reader.hpp"
+
+#include <algorithm>
+#include <thread>
+
+#include "vifusion/config/daemon_config.hpp"
+#include "vifusion/core/time.hpp"
+#include "vifusion/service/log.hpp"
+
+namespace vifusion::daemon {
+namespace {
+
+/// Sleeps until `until_ns` (CLOCK_MONOTONIC) in short steps, so a stop request is seen quickly.
+void sleepUntil(std::int64_t until_ns, const std::atomic<bool>& stop) {
+  constexpr std::int64_t kStepNs = 20 * kNsPerMillisecond;
+  for (std::int64_t now = monotonicNowNs(); now < until_ns && !stop; now = monotonicNowNs()) {
+    std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(until_ns - now, kStepNs)));
+  }
+}
+
+}  // namespace
+
+void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state) {
+  FrameSlot slot = FrameSlot();
+  std::int64_t first_t_ns = 0, start_ns = 0;
+  bool first = true;
+  try {
+    while (!state.stop && source.nextFrame(slot.frame)) {
+      if (first) {
+        first_t_ns = slot.frame.t_ns;
+        start_ns = monotonicNowNs();
+        first = false;
+      } else if (realtime) {
+        sleepUntil(start_ns + (slot.frame.t_ns - first_t_ns), state.stop);
+      }
+      if (!realtime) {
+        // size() seen by the producer can only overstate the fill, so a free slot stays free.
+        while (state.frames.size() == state.frames.capacity() && !state.stop) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        }
+      }
+      slot.read_ns = monotonicNowNs();
+      // Swapping hands the frame over and gets a recycled slot back, its buffers already sized.
+      state.frames.tryPush(std::move(slot));
+    }
+  } catch (const std::exception& error) {
+    service::logLine(service::LogLevel::Error, "source failed: %s", error.what());
+    state.fail(config::kExitSource);
+  }
+  state.source_done = true;
+}
+
+}  // namespace vifusion::daemon

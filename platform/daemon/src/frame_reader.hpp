@@ -1,0 +1,16 @@
+#pragma once
+// The reader thread: decodes frames from the source into the camera ring.
+
+#include "shared_state.hpp"
+#include "vifusion/datasets/dataset_reader.hpp"
+
+namespace vifusion::daemon {
+
+/// Runs until the source ends, `state.stop` is set or a frame cannot be read (exit code 3).
+///  realtime = true: frames are handed over at their timestamps' pace, like a camera; a full ring
+///    drops the newest frame and counts an overrun (a sensor never waits).
+///  realtime = false: as fast as the SLAM thread takes them; the reader waits for a free slot,
+///    because a dataset replayed for evaluation should lose nothing.
+void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state);
+
+}  // namespace vifusion::daemon

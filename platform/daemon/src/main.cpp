@@ -1,0 +1,179 @@
+// vifusiond: the SLAM service (DESIGN.md §1). Threads: reader (source → camera ring), SLAM (ring →
+// pipeline → output ring), publisher (output ring → DDS); this main thread handles signals and
+// talks to systemd. Exit codes: config/daemon_config.hpp (0 ok, 2 config, 3 source, 4 GPU, 5 DDS,
+// 6 outputs).
+
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <thread>
+
+#include "frame_reader.hpp"
+#include "frame_source.hpp"
+#include "publisher.hpp"
+#include "slam_worker.hpp"
+#include "vifusion/config/command_line.hpp"
+#include "vifusion/core/time.hpp"
+#include "vifusion/service/log.hpp"
+#include "vifusion/service/signal_fd.hpp"
+#include "vifusion/service/systemd_notifier.hpp"
+
+namespace vifusion::daemon {
+namespace {
+
+using service::LogLevel;
+using service::logLine;
+
+/// Start-up steps may take this long each before systemd's TimeoutStartSec counts again [µs].
+constexpr std::uint64_t kStartupStepUsec = 60'000'000;
+
+const char* trackingText(const SharedState& state, bool ready) {
+  if (!ready) return "initialising";
+  return state.lost_frames.load() > 0 ? "tracking (with lost frames)" : "tracking";
+}
+
+int serve(const config::DaemonConfig& config) {
+  const service::SignalFd signals({SIGTERM, SIGINT, SIGHUP});
+  const service::SystemdNotifier notifier;
+  notifier.extendTimeout(kStartupStepUsec);
+  notifier.status("opening the source");
+
+  std::unique_ptr<datasets::DatasetReader> source;
+  try {
+    source = openSource(config.source, config.out);
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "cannot open source '%s': %s", config.source.c_str(), error.what());
+    return config::kExitSource;
+  }
+  logLine(LogLevel::Info, "source: %s", source->describe().c_str());
+
+  notifier.extendTimeout(kStartupStepUsec);
+  notifier.status("building the GPU pipeline");
+  std::unique_ptr<gpu::GpuContext> context;
+  std::unique_ptr<slam::RgbdSlam> pipeline;
+  const slam::SlamOptions slam_options;
+  try {
+    gpu::GpuOptions gpu_options;
+    gpu_options.device = config.device;
+    context = gpu::GpuContext::create(gpu_options.withEnvironment());
+    pipeline = std::make_unique<slam::RgbdSlam>(*context, source->calibration(), slam_options);
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "GPU pipeline: %s", error.what());
+    return config::kExitGpu;
+  }
+  logLine(LogLevel::Info, "GPU: %s", context->features().device_name.c_str());
+
+  // Every camera ring slot sized for the calibration's images now: the reader never allocates.
+  const PinholeCamera& camera = source->calibration().camera;
+  FrameSlot prototype;
+  prototype.frame.depth.resize(camera.width, camera.height);
+  prototype.frame.rgb.resize(camera.width, camera.height);
+  constexpr std::size_t kOutputRing = 64;
+  SharedState state(static_cast<std::size_t>(config.frame_ring), prototype, kOutputRing);
+
+  std::unique_ptr<dds::Participant> participant;
+  std::unique_ptr<Publisher> publisher;
+  try {
+    participant = std::make_unique<dds::Participant>(
+        dds::ParticipantOptions{config.dds.domain, config.dds.config, config.dds.partition});
+    publisher = std::make_unique<Publisher>(*participant, config, slam_options.map.confidence_threshold, state);
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "DDS: %s", error.what());
+    return config::kExitDds;
+  }
+
+  SlamWorkerOptions worker_options;
+  worker_options.out_dir = config.out;
+  worker_options.max_frames = static_cast<std::uint64_t>(config.max_frames);
+  worker_options.map_period_ns = secondsToNs(config.map_publish_period_s);
+  worker_options.expected_frames = source->frameCount();
+  SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
+
+  notifier.status("waiting for the first frame");
+  std::thread reader_thread([&] { runFrameReader(*source, config.realtime, state); });
+  std::thread slam_thread([&] { worker.run(); });
+  std::thread publisher_thread([&] { publisher->run(); });
+
+  bool ready = false;
+  std::uint64_t petted_frames = 0;
+  std::int64_t next_pet_ns = monotonicNowNs() + notifier.watchdogPeriodNs();
+  std::int64_t next_status_ns = 0;
+  std::int64_t next_extend_ns = monotonicNowNs();
+  bool stopping = false;
+  while (!state.slam_done) {
+    const int signal = signals.wait(100);
+    if (signal == SIGTERM || signal == SIGINT) {
+      logLine(LogLevel::Info, "%s: finishing the current frame, writing trajectory.txt and map.ply",
+              signal == SIGTERM ? "SIGTERM" : "SIGINT");
+      state.stop = true;
+    } else if (signal == SIGHUP) {
+      service::reopenLog();
+      logLine(LogLevel::Info, "SIGHUP: log file reopened");
+    }
+    if (state.stop && !stopping) {
+      stopping = true;
+      notifier.stopping();
+    }
+    const std::int64_t now_ns = monotonicNowNs();
+    const std::uint64_t frames = state.frames_processed.load();
+    if (!ready && frames > 0) {
+      ready = true;
+      notifier.ready();
+      logLine(LogLevel::Info, "first frame processed: ready");
+    }
+    if (!ready && now_ns >= next_extend_ns) {  // the first frame may need the shaders JIT-compiled
+      notifier.extendTimeout(kStartupStepUsec);
+      next_extend_ns = now_ns + 10 * kNsPerSecond;
+    }
+    // Pet only on progress: a stalled source or a hung GPU lets the watchdog fire.
+    if (notifier.watchdogPeriodNs() > 0 && now_ns >= next_pet_ns) {
+      if (frames != petted_frames) notifier.watchdog();
+      petted_frames = frames;
+      next_pet_ns = now_ns + notifier.watchdogPeriodNs();
+    }
+    if (now_ns >= next_status_ns) {
+      char text[160];
+      std::snprintf(text, sizeof(text), "%s: %llu frames, %llu lost, camera ring overruns %llu",
+                    trackingText(state, ready), static_cast<unsigned long long>(frames),
+                    static_cast<unsigned long long>(state.lost_frames.load()),
+                    static_cast<unsigned long long>(state.frames.overruns()));
+      notifier.status(text);
+      next_status_ns = now_ns + kNsPerSecond;
+    }
+  }
+  // The SLAM thread ended (stop, end of source, max_frames or failure): let the others finish.
+  state.stop = true;
+  reader_thread.join();
+  slam_thread.join();
+  publisher_thread.join();
+  const int code = state.exit_code.load();
+  logLine(code == 0 ? LogLevel::Info : LogLevel::Error, "exiting with code %d after %llu frames (%llu lost)", code,
+          static_cast<unsigned long long>(state.frames_processed.load()),
+          static_cast<unsigned long long>(state.lost_frames.load()));
+  return code;
+}
+
+}  // namespace
+}  // namespace vifusion::daemon
+
+int main(int argc, char** argv) {
+  using namespace vifusion;
+  CLI::App app{"vifusiond: dense RGB-D SLAM service; results over DDS, health to systemd"};
+  config::CommandLine command_line(app);
+  config::DaemonConfig config;
+  if (const int code = config::parseCommandLine(app, command_line, argc, argv, "vifusiond", config); code >= 0) {
+    return code;
+  }
+  try {
+    service::openLog("vifusiond", config.log_file);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "vifusiond: %s\n", error.what());
+    return config::kExitConfig;
+  }
+  try {
+    return daemon::serve(config);
+  } catch (const std::exception& error) {
+    service::logLine(service::LogLevel::Error, "%s", error.what());
+    return config::kExitConfig;
+  }
+}

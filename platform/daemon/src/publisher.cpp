@@ -1,0 +1,130 @@
+#include "publisher.hpp"
+
+#include <thread>
+
+#include "vifusion/core/time.hpp"
+#include "vifusion/service/log.hpp"
+
+namespace vifusion::daemon {
+namespace {
+
+dds::msg::RingCounters counters(std::size_t fill, std::size_t capacity, std::uint64_t overruns) {
+  return {static_cast<std::uint32_t>(fill), static_cast<std::uint32_t>(capacity), overruns};
+}
+
+}  // namespace
+
+Publisher::Publisher(const dds::Participant& participant, const config::DaemonConfig& config,
+                     float map_confidence_threshold, SharedState& state)
+    : config_(config),
+      map_confidence_threshold_(map_confidence_threshold),
+      state_(state),
+      odometry_(participant, dds::topics::kOdometry),
+      pose_(participant, dds::topics::kPose),
+      tf_(participant, dds::topics::kTf),
+      status_(participant, dds::topics::kStatus),
+      map_(participant, dds::topics::kMap) {}
+
+void Publisher::run() {
+  const std::int64_t status_period_ns = secondsToNs(config_.status_period_s);
+  std::int64_t next_status_ns = monotonicNowNs();
+  PoseResult result;
+  try {
+    for (;;) {
+      const bool finished = state_.slam_done.load();  // read before draining: nothing arrives after it
+      while (state_.results.tryPop(result)) publishPose(result);
+      std::int64_t map_t_ns = 0;
+      if (state_.map.take(surfels_, map_t_ns)) publishMap(map_t_ns);
+      const std::int64_t now_ns = monotonicNowNs();
+      if (now_ns >= next_status_ns || finished) {
+        publishStatus(now_ns);
+        next_status_ns = now_ns + status_period_ns;
+      }
+      if (finished) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  } catch (const std::exception& error) {
+    service::logLine(service::LogLevel::Error, "publishing failed: %s", error.what());
+    state_.fail(config::kExitDds);
+  }
+}
+
+void Publisher::publishPose(const PoseResult& result) {
+  const char* world = config_.dds.world_frame.c_str();
+  const char* camera = config_.dds.camera_frame.c_str();
+  Eigen::Vector3d v_W_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d omega_C_radps = Eigen::Vector3d::Zero();
+  if (have_last_ && result.t_ns > last_.t_ns) {
+    const double dt_s = nsToSeconds(result.t_ns - last_.t_ns);
+    v_W_mps = (result.T_W_C.translation() - last_.T_W_C.translation()) / dt_s;
+    // Rotation of the previous camera to this one, expressed in this camera: R_Cprev_C.
+    const Eigen::AngleAxisd delta(last_.T_W_C.quaternion().conjugate() * result.T_W_C.quaternion());
+    omega_C_radps = result.T_W_C.quaternion().conjugate() * last_.T_W_C.quaternion() *
+                    (delta.axis() * delta.angle() / dt_s);
+  }
+  // Placeholder covariance (see publisher.hpp): (1 cm)², (0.01 rad)².
+  Matrix6d pose_covariance = Matrix6d::Zero();
+  pose_covariance.diagonal() << 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4;
+  odometry_.write(dds::makeOdometry(result.t_ns, world, camera, result.T_W_C, v_W_mps, omega_C_radps, pose_covariance,
+                                    Matrix6d::Zero()));
+  pose_.write(dds::makePoseStamped(result.t_ns, world, result.T_W_C));
+  std::array<dds::msg::TransformStamped, 1> transforms = {
+      dds::makeTransformStamped(result.t_ns, world, camera, result.T_W_C)};
+  tf_.write(dds::makeTfMessage(transforms));
+  latency_ms_ = static_cast<float>(nsToSeconds(monotonicNowNs() - result.read_ns) * 1e3);
+  last_ = result;
+  have_last_ = true;
+}
+
+void Publisher::publishStatus(std::int64_t now_ns) {
+  const std::uint64_t frames = state_.frames_processed.load();
+  rate_samples_[rate_count_ % kRateWindow] = {now_ns, frames};
+  ++rate_count_;
+  // Oldest sample at most ~1 s old (or the oldest kept): the processed-frame rate over that window.
+  float rate_hz = 0.0f;
+  for (std::size_t back = std::min(rate_count_, kRateWindow) - 1; back > 0; --back) {
+    const auto& [t_ns, n] = rate_samples_[(rate_count_ - 1 - back) % kRateWindow];
+    if (now_ns - t_ns <= kNsPerSecond + kNsPerSecond / 10 || back == 1) {
+      rate_hz = static_cast<float>(static_cast<double>(frames - n) / nsToSeconds(now_ns - t_ns));
+      break;
+    }
+  }
+  dds::msg::Status status{};
+  status.header = dds::makeHeader(last_.t_ns, config_.dds.camera_frame.c_str());
+  status.heartbeat = ++heartbeat_;
+  status.frame_rate_hz = rate_hz;
+  status.latency_ms = latency_ms_;
+  status.camera_ring = counters(state_.frames.size(), state_.frames.capacity(), state_.frames.overruns());
+  status.imu_ring = counters(0, 0, 0);  // no IMU ring in rgbd mode
+  status.output_ring = counters(state_.results.size(), state_.results.capacity(), state_.results.overruns());
+  const auto tracking = !have_last_ ? dds::msg::TrackingState::Initialising
+                        : last_.lost ? dds::msg::TrackingState::Lost
+                                     : dds::msg::TrackingState::Ok;
+  status.tracking_state = static_cast<std::uint8_t>(tracking);
+  status.surfel_count = last_.surfels;
+  status.frames_processed = frames;
+  status.lost_frames = state_.lost_frames.load();
+  status_.write(status);
+}
+
+void Publisher::publishMap(std::int64_t t_ns) {
+  points_.clear();
+  for (const map::Surfel& surfel : surfels_) {
+    if (surfel.position_confidence.w() < map_confidence_threshold_) continue;  // stable surfels, as map.ply
+    const std::uint32_t packed = surfel.packedColour();  // r | g << 8 | b << 16
+    dds::MapPoint point;
+    point.x = surfel.position_confidence.x();
+    point.y = surfel.position_confidence.y();
+    point.z = surfel.position_confidence.z();
+    point.rgb = dds::MapPoint::packRgb(packed & 0xff, (packed >> 8) & 0xff, (packed >> 16) & 0xff);
+    point.normal_x = surfel.normal_radius.x();
+    point.normal_y = surfel.normal_radius.y();
+    point.normal_z = surfel.normal_radius.z();
+    point.radius = surfel.normal_radius.w();
+    point.confidence = surfel.position_confidence.w();
+    points_.push_back(point);
+  }
+  map_.write(dds::makePointCloud2(t_ns, config_.dds.world_frame.c_str(), points_));
+}
+
+}  // namespace vifusion::daemon

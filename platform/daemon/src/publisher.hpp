@@ -1,0 +1,59 @@
+#pragma once
+// The publisher thread: reads the output ring and publishes, per frame, rt/vifusion/odometry,
+// rt/vifusion/pose and rt/tf (world → camera); every status_period_s rt/vifusion/status; and each
+// map snapshot as rt/vifusion/map (PointCloud2, transient-local). All messages borrow buffers
+// allocated here at start-up; only a growing map enlarges the point buffer.
+//
+// Odometry covariance is a PLACEHOLDER until the IMU estimator provides the marginal covariance: a
+// fixed diagonal of (1 cm)² for position and (0.01 rad)² for rotation, and the twist covariance
+// zero (unknown). The twist is the finite difference of consecutive poses.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shared_state.hpp"
+#include "vifusion/config/daemon_config.hpp"
+#include "vifusion/dds/conversions.hpp"
+#include "vifusion/dds/participant.hpp"
+#include "vifusion/dds/topics.hpp"
+#include "vifusion/dds/writer.hpp"
+
+namespace vifusion::daemon {
+
+class Publisher {
+ public:
+  /// Creates the writers; throws vifusion::Error on a DDS failure.
+  Publisher(const dds::Participant& participant, const config::DaemonConfig& config, float map_confidence_threshold,
+            SharedState& state);
+  /// The thread body: runs until the SLAM thread is done and the output ring is drained.
+  void run();
+
+ private:
+  void publishPose(const PoseResult& result);
+  void publishStatus(std::int64_t now_ns);
+  void publishMap(std::int64_t t_ns);
+
+  const config::DaemonConfig& config_;
+  float map_confidence_threshold_;
+  SharedState& state_;
+  dds::Writer<dds::msg::Odometry> odometry_;
+  dds::Writer<dds::msg::PoseStamped> pose_;
+  dds::Writer<dds::msg::TFMessage> tf_;
+  dds::Writer<dds::msg::Status> status_;
+  dds::Writer<dds::msg::PointCloud2> map_;
+
+  std::uint64_t heartbeat_ = 0;
+  PoseResult last_{};
+  bool have_last_ = false;
+  float latency_ms_ = 0.0f;
+  /// (host time [ns], frames processed) at the last status messages, for a ~1 s frame-rate window.
+  static constexpr std::size_t kRateWindow = 32;
+  std::array<std::pair<std::int64_t, std::uint64_t>, kRateWindow> rate_samples_{};
+  std::size_t rate_count_ = 0;
+  std::vector<map::Surfel> surfels_;
+  std::vector<dds::MapPoint> points_;
+};
+
+}  // namespace vifusion::daemon

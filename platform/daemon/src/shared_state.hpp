@@ -1,0 +1,85 @@
+#pragma once
+// What vifusiond's threads share (DESIGN.md §1): the camera ring (reader → SLAM), the output ring
+// (SLAM → publisher), the periodic map hand-off and a few atomic counters. No locks on the
+// per-frame path; the map hand-off takes a mutex every map_publish_period_s.
+
+#include <atomic>
+#include <cstdint>
+#include <mutex>
+#include <vector>
+
+#include "vifusion/core/se3.hpp"
+#include "vifusion/core/sensor_data.hpp"
+#include "vifusion/core/spsc_ring.hpp"
+#include "vifusion/map/surfel.hpp"
+
+namespace vifusion::daemon {
+
+/// One camera ring slot: the frame and when the reader handed it over (host CLOCK_MONOTONIC [ns]).
+struct FrameSlot {
+  RgbdFrame frame;
+  std::int64_t read_ns = 0;
+};
+
+/// One output ring slot: small and fixed-size, so the hand-off copies a few hundred bytes.
+struct PoseResult {
+  std::int64_t t_ns = 0;        ///< frame stamp (the source's time base) [ns]
+  std::int64_t read_ns = 0;     ///< host time the reader handed the frame over [ns]
+  std::int64_t done_ns = 0;     ///< host time the SLAM thread finished it [ns]
+  SE3d T_W_C;                   ///< camera pose in the map world
+  bool lost = false;            ///< tracking failed for this frame
+  std::uint32_t surfels = 0;    ///< surfels in the map after this frame
+  std::uint64_t frame_number = 0;  ///< processed frames so far, this one included
+};
+
+/// The periodic map snapshot, exported on the SLAM thread (which owns the GPU) and converted and
+/// published on the publisher thread. Swapping vectors keeps both sides' capacity: no allocation
+/// once the map stopped growing.
+class MapHandoff {
+ public:
+  void offer(std::vector<map::Surfel>& surfels, std::int64_t t_ns) {
+    const std::lock_guard lock(mutex_);
+    pending_.swap(surfels);
+    t_ns_ = t_ns;
+    fresh_ = true;
+  }
+  bool take(std::vector<map::Surfel>& surfels, std::int64_t& t_ns) {
+    const std::lock_guard lock(mutex_);
+    if (!fresh_) return false;
+    surfels.swap(pending_);
+    t_ns = t_ns_;
+    fresh_ = false;
+    return true;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::vector<map::Surfel> pending_;
+  std::int64_t t_ns_ = 0;
+  bool fresh_ = false;
+};
+
+/// Exit codes a thread reports; the first non-zero one wins.
+struct SharedState {
+  SharedState(std::size_t frame_capacity, const FrameSlot& prototype, std::size_t output_capacity)
+      : frames(frame_capacity, prototype), results(output_capacity) {}
+
+  SpscRing<FrameSlot> frames;
+  SpscRing<PoseResult> results;
+  MapHandoff map;
+
+  std::atomic<bool> stop{false};          ///< SIGTERM/SIGINT: finish the current frame and shut down
+  std::atomic<bool> source_done{false};   ///< the reader delivered its last frame (or failed)
+  std::atomic<bool> slam_done{false};     ///< the SLAM thread wrote its files and ended
+  std::atomic<std::uint64_t> frames_processed{0};
+  std::atomic<std::uint64_t> lost_frames{0};
+  std::atomic<int> exit_code{0};
+
+  void fail(int code) {
+    int expected = 0;
+    exit_code.compare_exchange_strong(expected, code);
+    stop = true;
+  }
+};
+
+}  // namespace vifusion::daemon

@@ -1,0 +1,72 @@
+#include "slam_worker.hpp"
+
+#include <thread>
+
+#include "vifusion/config/daemon_config.hpp"
+#include "vifusion/core/time.hpp"
+#include "vifusion/map/surfel_ply.hpp"
+#include "vifusion/service/log.hpp"
+
+namespace vifusion::daemon {
+
+SlamWorker::SlamWorker(slam::RgbdSlam& pipeline, const map::MapOptions& map_options,
+                       const SlamWorkerOptions& options, SharedState& state)
+    : pipeline_(pipeline), map_options_(map_options), options_(options), state_(state) {
+  trajectory_.reserve(options.expected_frames);
+}
+
+void SlamWorker::run() {
+  FrameSlot slot;
+  std::int64_t next_map_ns = monotonicNowNs() + options_.map_period_ns;
+  try {
+    while (!state_.stop) {
+      if (!state_.frames.tryPop(slot)) {
+        if (state_.source_done && state_.frames.size() == 0) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+        continue;
+      }
+      const slam::FrameResult result = pipeline_.process(slot.frame);
+      trajectory_.push_back({result.t_ns, result.T_W_C});
+      const std::uint64_t processed = state_.frames_processed.load() + 1;
+      if (result.lost) ++state_.lost_frames;
+      // A full output ring drops this result (counted): the publisher is behind, the pose is stale.
+      state_.results.tryPush(
+          PoseResult{result.t_ns, slot.read_ns, monotonicNowNs(), result.T_W_C, result.lost, result.surfels, processed});
+      state_.frames_processed = processed;
+      // Trade-off: the export reads the map back on this thread (it owns the GPU), costing one
+      // readback every map_publish_period_s; converting and publishing happen on the publisher thread.
+      if (options_.map_period_ns > 0 && monotonicNowNs() >= next_map_ns) {
+        pipeline_.exportMap(snapshot_);
+        state_.map.offer(snapshot_, result.t_ns);
+        next_map_ns = monotonicNowNs() + options_.map_period_ns;
+      }
+      if (options_.max_frames > 0 && processed >= options_.max_frames) break;
+    }
+  } catch (const std::exception& error) {
+    service::logLine(service::LogLevel::Error, "pipeline failed: %s", error.what());
+    state_.fail(config::kExitGpu);
+  }
+  writeOutputs();
+  state_.slam_done = true;
+}
+
+void SlamWorker::writeOutputs() {
+  try {
+    std::filesystem::create_directories(options_.out_dir);
+    const std::filesystem::path trajectory_path = options_.out_dir / "trajectory.txt";
+    const std::filesystem::path temporary = options_.out_dir / "trajectory.txt.tmp";
+    eval::writeTum(temporary, trajectory_);
+    std::filesystem::rename(temporary, trajectory_path);
+    std::vector<map::Surfel> surfels;
+    pipeline_.exportMap(surfels);
+    const std::size_t written = map::writeSurfelPly(options_.out_dir / "map.ply", surfels,
+                                                    map::SurfelPlyOptions::stableOnly(map_options_));
+    service::logLine(service::LogLevel::Info, "wrote %s (%zu poses) and map.ply (%zu surfels)",
+                     trajectory_path.c_str(), trajectory_.size(), written);
+  } catch (const std::exception& error) {
+    service::logLine(service::LogLevel::Error, "cannot write the outputs: %s", error.what());
+    state_.fail(config::kExitOutput);
+  }
+}
+
+}  // namespace vifusion::daemon

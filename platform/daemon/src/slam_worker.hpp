@@ -1,0 +1,42 @@
+#pragma once
+// The SLAM thread: the only user of the GPU pipeline. Takes frames from the camera ring, tracks and
+// maps them, hands small results to the publisher, and exports the map every map_publish_period_s.
+// When it stops (SIGTERM, end of source, max_frames) it finishes the current frame and writes
+// trajectory.txt and map.ply atomically (temporary file + rename).
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+#include "shared_state.hpp"
+#include "vifusion/eval/trajectory_io.hpp"
+#include "vifusion/slam/rgbd_slam.hpp"
+
+namespace vifusion::daemon {
+
+struct SlamWorkerOptions {
+  std::filesystem::path out_dir;          ///< trajectory.txt and map.ply go here
+  std::uint64_t max_frames = 0;           ///< 0: until the source ends or stop
+  std::int64_t map_period_ns = 0;         ///< map snapshot period [ns]; 0: never
+  std::size_t expected_frames = 0;        ///< trajectory capacity reserved up front
+};
+
+class SlamWorker {
+ public:
+  SlamWorker(slam::RgbdSlam& pipeline, const map::MapOptions& map_options, const SlamWorkerOptions& options,
+             SharedState& state);
+  /// The thread body.
+  void run();
+
+ private:
+  void writeOutputs();
+
+  slam::RgbdSlam& pipeline_;
+  map::MapOptions map_options_;
+  SlamWorkerOptions options_;
+  SharedState& state_;
+  std::vector<eval::StampedPose> trajectory_;
+  std::vector<map::Surfel> snapshot_;
+};
+
+}  // namespace vifusion::daemon

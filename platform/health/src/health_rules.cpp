@@ -1,0 +1,110 @@
+#include "health_rules.hpp"
+
+#include <cstdarg>
+#include <cstdio>
+
+#include "vifusion/core/time.hpp"
+
+namespace vifusion::health {
+namespace {
+
+// Overruns that increased this recently keep the rule at WARN, so a one-off drop is seen [ns].
+constexpr std::int64_t kOverrunHoldNs = 2 * kNsPerSecond;
+
+void set(RuleResult& result, Level level, const char* format, ...) __attribute__((format(printf, 3, 4)));
+void set(RuleResult& result, Level level, const char* format, ...) {
+  result.level = level;
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(result.message, sizeof(result.message), format, args);
+  va_end(args);
+}
+
+void value(RuleResult& result, const char* key, const char* format, double number) {
+  if (result.value_count >= RuleResult::kMaxValues) return;
+  result.keys[result.value_count] = key;
+  std::snprintf(result.values[result.value_count], sizeof(result.values[0]), format, number);
+  ++result.value_count;
+}
+
+}  // namespace
+
+void HealthRules::onStatus(const dds::msg::Status& status, std::int64_t now_ns) {
+  const std::uint64_t overruns = status.camera_ring.overruns + status.output_ring.overruns;
+  if (have_status_ && overruns > overruns_) overrun_increase_ns_ = now_ns;
+  overruns_ = overruns;
+  const bool lost = status.tracking_state == static_cast<std::uint8_t>(dds::msg::TrackingState::Lost);
+  if (!lost) {
+    lost_since_ns_ = -1;
+  } else if (lost_since_ns_ < 0) {
+    lost_since_ns_ = now_ns;
+  }
+  last_ = status;
+  received_ns_ = now_ns;
+  have_status_ = true;
+}
+
+void HealthRules::judge(std::int64_t now_ns, std::array<RuleResult, kRuleCount>& results) const {
+  results = {};
+  RuleResult& heartbeat = results[0];
+  RuleResult& rate = results[1];
+  RuleResult& tracking = results[2];
+  RuleResult& overruns = results[3];
+  RuleResult& imu = results[4];
+  heartbeat.name = "vifusion: heartbeat";
+  rate.name = "vifusion: frame rate";
+  tracking.name = "vifusion: tracking";
+  overruns.name = "vifusion: ring overruns";
+  imu.name = "vifusion: imu";
+  set(imu, Level::Ok, "no IMU in rgbd mode (IMU gap rule: placeholder until the IMU driver exists)");
+
+  const double age_s = nsToSeconds(now_ns - received_ns_);
+  if (!have_status_ || age_s > thresholds_.heartbeat_stale_s) {
+    if (have_status_) {
+      set(heartbeat, Level::Stale, "no status from vifusiond for %.1f s (stalled, stopped or unreachable)", age_s);
+      value(heartbeat, "age_s", "%.2f", age_s);
+    } else {
+      set(heartbeat, Level::Stale, "no status from vifusiond yet");
+    }
+    for (RuleResult* rule : {&rate, &tracking, &overruns}) set(*rule, Level::Stale, "no recent status");
+    return;
+  }
+  set(heartbeat, Level::Ok, "status %.2f s ago", age_s);
+  value(heartbeat, "age_s", "%.2f", age_s);
+  value(heartbeat, "heartbeat", "%.0f", static_cast<double>(last_.heartbeat));
+
+  const double rate_hz = last_.frame_rate_hz;
+  value(rate, "frame_rate_hz", "%.1f", rate_hz);
+  value(rate, "latency_ms", "%.1f", last_.latency_ms);
+  value(rate, "frames_processed", "%.0f", static_cast<double>(last_.frames_processed));
+  if (last_.tracking_state == static_cast<std::uint8_t>(dds::msg::TrackingState::Initialising)) {
+    set(rate, Level::Ok, "initialising: waiting for the first frame");
+  } else if (rate_hz <= 0.0) {
+    set(rate, Level::Error, "no frames processed in the last second (source or pipeline stalled)");
+  } else if (rate_hz < thresholds_.min_frame_rate_hz) {
+    set(rate, Level::Warn, "%.1f frames/s, below %.1f", rate_hz, thresholds_.min_frame_rate_hz);
+  } else {
+    set(rate, Level::Ok, "%.1f frames/s", rate_hz);
+  }
+
+  value(tracking, "lost_frames", "%.0f", static_cast<double>(last_.lost_frames));
+  if (lost_since_ns_ >= 0) {
+    const double lost_s = nsToSeconds(now_ns - lost_since_ns_);
+    value(tracking, "lost_for_s", "%.2f", lost_s);
+    // Single lost frames are normal (fast motion, blur); only a long loss is an error.
+    set(tracking, lost_s > thresholds_.lost_error_s ? Level::Error : Level::Ok,
+        lost_s > thresholds_.lost_error_s ? "tracking lost for %.1f s" : "recovering: lost for %.1f s", lost_s);
+  } else {
+    set(tracking, Level::Ok, "tracking");
+  }
+
+  value(overruns, "camera_ring_overruns", "%.0f", static_cast<double>(last_.camera_ring.overruns));
+  value(overruns, "output_ring_overruns", "%.0f", static_cast<double>(last_.output_ring.overruns));
+  if (overrun_increase_ns_ >= 0 && now_ns - overrun_increase_ns_ < kOverrunHoldNs) {
+    set(overruns, Level::Warn, "ring overruns increasing: the SLAM thread is slower than the source");
+  } else {
+    set(overruns, Level::Ok, "no new overruns");
+  }
+}
+
+}  // namespace vifusion::health

@@ -93,9 +93,10 @@ FrameResult RgbdSlam::process(const RgbdFrame& frame) {
     result.icp_candidates = tracking.icp_candidates;
     result.rgb_inliers = tracking.rgb_inliers;
     result.iterations = tracking.iterations;
-    // A lost frame keeps the constant-velocity guess; it is not fused, so the map stays clean.
-    T_previous_current_ = tracking.T_ref_cur;
+    // A lost frame keeps the constant-velocity guess for itself and is not fused, so the map stays
+    // clean; the velocity is then reset, so a run of lost frames stops instead of drifting away.
     T_W_previous_ = T_W_previous_ * tracking.T_ref_cur;
+    T_previous_current_ = tracking.lost ? SE3d() : tracking.T_ref_cur;
   }
   result.T_W_C = T_W_previous_;
 

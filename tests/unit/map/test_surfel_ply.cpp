@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 #include <sys/resource.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -296,14 +297,31 @@ TEST(SurfelPly, AMissingDirectoryIsNamedInTheError) {
 }
 
 TEST(SurfelPly, AReadOnlyDirectoryKeepsThePreviousFile) {
-  if (::geteuid() == 0) GTEST_SKIP() << "root writes into read-only directories (the file-size test covers root)";
   TempDirectory dir;
   const fs::path path = dir.path() / "map.ply";
   map::writeSurfelPly(path, randomSurfels(10, 10));
   const std::string previous = readFile(path);
-  fs::permissions(dir.path(), fs::perms::owner_write, fs::perm_options::remove);
-  expectError([&] { map::writeSurfelPly(path, randomSurfels(20, 11)); },
-              path.string() + ": cannot create the temporary file '" + path.string() + ".tmp': Permission denied");
+  fs::permissions(dir.path(), fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write,
+                  fs::perm_options::remove);
+  // Root ignores directory permissions (and CI runs as root), so the write is attempted by a child
+  // process that first drops to the unprivileged user `nobody` (65534).
+  const std::string expected =
+      path.string() + ": cannot create the temporary file '" + path.string() + ".tmp': Permission denied";
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    if (::geteuid() == 0 && (::setgid(65534) != 0 || ::setuid(65534) != 0)) ::_exit(3);
+    try {
+      map::writeSurfelPly(path, randomSurfels(20, 11));
+      ::_exit(1);  // the write should have failed
+    } catch (const Error& error) {
+      ::_exit(std::string(error.what()) == expected ? 0 : 2);
+    }
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "1: the write succeeded, 2: another message than: " << expected;
   fs::permissions(dir.path(), fs::perms::owner_write, fs::perm_options::add);
   EXPECT_EQ(readFile(path), previous);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"map.ply"});

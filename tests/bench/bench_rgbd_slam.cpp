@@ -1,0 +1,573 @@
+// The whole RGB-D pipeline (slam::RgbdSlam: preprocessing, frame-to-model tracking, fusion, map upkeep
+// and prediction) on the synthetic living room, at 640×480 and 320×240, beside OpenCV's frame-to-frame
+// cv::rgbd::RgbdICPOdometry on the same frames, with the ATE of both against the simulator's ground
+// truth, so that speed is never compared at broken accuracy. The goals (not tests): ≥ 15 frames/s
+// at 640×480 and ≥ 30 at 320×240 on 2 cores via lavapipe.
+//
+//   bench_rgbd_slam [--frames=90] [--sizes=640x480,320x240] [--data_dir=DIR] [--vifusion=PATH]
+//                   [--noise=1] [--photometric=1] [--opencv=1] [--steps=1] [--trajectory_dir=DIR]
+//                   --benchmark_out=slam.json --benchmark_out_format=json
+//
+// The sequence (`vifusion sim --preset living_room_0`, the first `frames` frames at each size, with
+// the simulator's sensor noise unless --noise=0) is generated once into --data_dir and reused; every
+// frame is decoded into memory before timing. --photometric=0 tracks with ICP only; --trajectory_dir
+// writes both estimates as TUM files.
+// Entries, one per size:
+//   rgbd_slam/living_room_0/WxH   one iteration per frame after the first (which defines W, starts
+//       the map and warms up); real_time = wall time per frame. Counters: ms_preprocess, ms_tracking,
+//       ms_mapping, ms_total (mean per timed frame), fps, gn_iterations, ms_per_gn_iteration,
+//       lost_frames, surfels (at the end), map_overflow, arena_bytes, ate_m (all frames);
+//       opencv_ms, opencv_ate_m, opencv_failed_frames, opencv_threads; ratio = ms_total/opencv_ms,
+//       ratio_odometry = (ms_preprocess + ms_tracking)/opencv_ms; goal_fps and goal_met (1/0).
+//   rgbd_slam_steps/living_room_0/WxH   the same frames through the preprocessing and map kernels
+//       one step per submission (each step's wall time includes a submit and a wait, ≈ 20 µs on
+//       lavapipe, so the steps add up to a little more than the fused per-frame sequences), fused at
+//       the ground-truth poses: ms_upload, ms_pre_<step>, ms_fusion_<step>, ms_map_cleanup,
+//       ms_map_compaction, ms_map_prediction. Tracking has no per-kernel split here: see
+//       ms_per_gn_iteration above.
+
+#include <benchmark/benchmark.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/rgbd/depth.hpp>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "vifusion/core/error.hpp"
+#include "vifusion/datasets/dataset_reader.hpp"
+#include "vifusion/eval/metrics.hpp"
+#include "vifusion/eval/trajectory_io.hpp"
+#include "vifusion/gpu/command_sequence.hpp"
+#include "vifusion/gpu/gpu_context.hpp"
+#include "vifusion/map/map_buffers.hpp"
+#include "vifusion/map/map_maintenance.hpp"
+#include "vifusion/map/model_prediction.hpp"
+#include "vifusion/map/surfel_fusion.hpp"
+#include "vifusion/preprocess/preprocess_stage.hpp"
+#include "vifusion/slam/rgbd_slam.hpp"
+
+extern char** environ;
+
+namespace vifusion {
+namespace {
+
+constexpr const char* kPreset = "living_room_0";
+constexpr double kFrameRateHz = 30.0;  // `vifusion sim` renders at 30 Hz
+
+struct Size {
+  int width = 0;
+  int height = 0;
+  std::string name() const { return std::to_string(width) + "x" + std::to_string(height); }
+};
+
+/// Command-line options of this benchmark (Google Benchmark's own --benchmark_* flags come on top).
+struct BenchOptions {
+  int frames = 90;  ///< frames per sequence, the first one untimed
+  std::vector<Size> sizes = {{640, 480}, {320, 240}};
+  std::string data_dir = VIFUSION_BENCH_DATA_DIR;  ///< where the generated sequences are kept
+  std::string vifusion = VIFUSION_BENCH_CLI;       ///< the `vifusion` program that generates them
+  bool noise = true;                               ///< ICL-NUIM-style sensor noise (sim's default); 0: --no-noise
+  bool photometric = true;                         ///< TrackerOptions::use_photometric (0: ICP only)
+  bool opencv = true;                              ///< run cv::rgbd::RgbdICPOdometry for comparison
+  bool steps = true;                               ///< register the per-step entries
+  std::string trajectory_dir;                      ///< non-empty: write the estimated trajectories (TUM) here
+};
+
+BenchOptions& options() {
+  static BenchOptions instance;
+  return instance;
+}
+
+gpu::GpuContext& context() {
+  static const auto instance = gpu::GpuContext::create(gpu::GpuOptions{}.withEnvironment());
+  return *instance;
+}
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// With --trajectory_dir, writes `trajectory` as <dir>/<name>.txt (TUM) for `vifusion eval --plots`.
+void writeTrajectory(const std::string& name, const std::vector<eval::StampedPose>& trajectory) {
+  if (options().trajectory_dir.empty()) return;
+  std::filesystem::create_directories(options().trajectory_dir);
+  eval::writeTum(std::filesystem::path(options().trajectory_dir) / (name + ".txt"), trajectory);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The sequence: generated once by `vifusion sim`, decoded into memory once per size.
+
+/// One size of the living-room sequence in memory, with the ground truth at every frame.
+struct Sequence {
+  RigCalibration calibration;
+  std::vector<RgbdFrame> frames;
+  std::vector<eval::StampedPose> ground_truth;  ///< T_world_camera at each frame's stamp, in frame order
+  std::string describe;
+};
+
+/// Runs `vifusion sim` with its stdout sent to stderr (stdout may carry the benchmark's JSON).
+void runSim(const Size& size, int frames, const std::filesystem::path& out) {
+  // `sim` renders floor((duration − first stamp) / period) + 1 frames: half a period of margin.
+  char duration[32];
+  std::snprintf(duration, sizeof(duration), "%.6f", (frames - 0.5) / kFrameRateHz);
+  std::vector<std::string> args = {options().vifusion, "sim", "--preset", kPreset,
+                                   "--width", std::to_string(size.width), "--height", std::to_string(size.height),
+                                   "--duration", duration, "--out", out.string()};
+  if (!options().noise) args.push_back("--no-noise");
+  std::vector<char*> argv;
+  for (std::string& arg : args) argv.push_back(arg.data());
+  argv.push_back(nullptr);
+  std::fprintf(stderr, "bench_rgbd_slam: generating %d frames of sim:%s at %s into %s\n", frames, kPreset,
+               size.name().c_str(), out.c_str());
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, STDERR_FILENO, STDOUT_FILENO);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) throw Error(options().vifusion + ": cannot be started (" + std::strerror(spawned) + "); give --vifusion=PATH");
+  int status = 0;
+  if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    throw Error("vifusion sim failed for " + out.string());
+  }
+}
+
+/// The dataset directory of `size` holding at least `frames` frames, generated if missing or short.
+std::filesystem::path datasetFor(const Size& size, int frames) {
+  const std::filesystem::path dir = std::filesystem::path(options().data_dir) / (std::string(kPreset) + "_" + size.name() + (options().noise ? "" : "_no_noise"));
+  if (std::filesystem::exists(dir / "rgb.txt")) {
+    if (datasets::openDataset("dataset:" + dir.string())->frameCount() >= static_cast<std::size_t>(frames)) return dir;
+  }
+  // Written beside and renamed: an interrupted generation never looks complete.
+  const std::filesystem::path partial = dir.string() + ".partial";
+  std::filesystem::remove_all(partial);
+  std::filesystem::create_directories(partial.parent_path());
+  runSim(size, frames, partial);
+  std::filesystem::remove_all(dir);
+  std::filesystem::rename(partial, dir);
+  return dir;
+}
+
+const Sequence& sequenceFor(const Size& size) {
+  static std::map<std::string, std::unique_ptr<Sequence>> cache;
+  auto& slot = cache[size.name()];
+  if (slot) return *slot;
+  const int frames = options().frames;
+  const auto reader = datasets::openDataset("dataset:" + datasetFor(size, frames).string());
+  auto sequence = std::make_unique<Sequence>();
+  sequence->calibration = reader->calibration();
+  sequence->describe = reader->describe();
+  sequence->frames.resize(static_cast<std::size_t>(frames));
+  for (RgbdFrame& frame : sequence->frames) {
+    if (!reader->nextFrame(frame)) throw Error("the dataset ran out of frames: " + reader->describe());
+  }
+  const std::span<const datasets::StampedPose> truth = reader->groundTruth();
+  for (const RgbdFrame& frame : sequence->frames) {
+    const auto it = std::lower_bound(truth.begin(), truth.end(), frame.t_ns,
+                                     [](const datasets::StampedPose& pose, int64_t t_ns) { return pose.t_ns < t_ns; });
+    if (it == truth.end() || it->t_ns != frame.t_ns) throw Error("no ground-truth pose at a frame's stamp: " + reader->describe());
+    sequence->ground_truth.push_back({it->t_ns, it->T_world_body});
+  }
+  slot = std::move(sequence);
+  return *slot;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// OpenCV's RgbdICPOdometry, frame to frame, on the same frames.
+
+struct OpenCvRun {
+  double ms_per_frame = 0.0;  ///< mean wall time of compute() over frames 1 … n−1
+  double ate_m = std::numeric_limits<double>::quiet_NaN();
+  int failed_frames = 0;  ///< compute() returned false: the pose is carried over unchanged
+};
+
+SE3d se3FromCv(const cv::Mat& Rt) {
+  Eigen::Matrix3d R;
+  Eigen::Vector3d t;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) R(r, c) = Rt.at<double>(r, c);
+    t(r) = Rt.at<double>(r, 3);
+  }
+  return SE3d(Eigen::Quaterniond(R), t);
+}
+
+/// Same intrinsics and depth gate as our preprocessing; every other parameter at OpenCV 4.6's
+/// defaults: max depth difference 0.07 m, max points part 0.07, iterations {7, 7, 7, 10} (finest
+/// level first, 4 levels), min gradient magnitudes 10 at every level, rigid-body motion, and a
+/// failed compute() when the motion exceeds 0.15 m or 15°. Depth is CV_32F metres with NaN where
+/// invalid, intensity 8-bit grey (as the opencv_contrib odometry sample); both are converted before
+/// timing. OpenCV's own thread pool (cv::getNumThreads()) runs its parallel loops.
+OpenCvRun runOpenCv(const Sequence& sequence, const preprocess::DepthToMetricParams& gate, const std::string& name) {
+  const PinholeCamera& camera = sequence.calibration.camera;
+  const cv::Mat K = (cv::Mat_<float>(3, 3) << static_cast<float>(camera.fx), 0.f, static_cast<float>(camera.cx), 0.f,
+                     static_cast<float>(camera.fy), static_cast<float>(camera.cy), 0.f, 0.f, 1.f);
+  const cv::Ptr<cv::rgbd::RgbdICPOdometry> odometry =
+      cv::rgbd::RgbdICPOdometry::create(K, gate.min_depth_m, gate.max_depth_m);
+
+  std::vector<cv::Mat> depth_m, grey;
+  for (const RgbdFrame& frame : sequence.frames) {
+    const cv::Mat raw(frame.depth.height(), frame.depth.width(), CV_16UC1, const_cast<uint16_t*>(frame.depth.data()));
+    cv::Mat depth;
+    raw.convertTo(depth, CV_32FC1, frame.depth_scale_m);
+    depth.setTo(std::numeric_limits<float>::quiet_NaN(), raw == 0);
+    depth_m.push_back(depth);
+    const cv::Mat rgb(frame.rgb.height(), frame.rgb.width(), CV_8UC3, const_cast<Rgb8*>(frame.rgb.data()));
+    cv::Mat g;
+    cv::cvtColor(rgb, g, cv::COLOR_RGB2GRAY);
+    grey.push_back(g);
+  }
+  const auto frameAt = [&](std::size_t i) {
+    return cv::makePtr<cv::rgbd::OdometryFrame>(grey[i], depth_m[i], cv::Mat(), cv::Mat(), static_cast<int>(i));
+  };
+  {  // warm-up (thread pool, first allocations), not timed
+    cv::Ptr<cv::rgbd::OdometryFrame> src = frameAt(1), dst = frameAt(0);
+    cv::Mat Rt;
+    odometry->compute(src, dst, Rt);
+  }
+
+  // compute(current, previous) gives Rt = T_previous_current (p_previous = Rt · p_current); each
+  // frame's pyramids are built once, as the source, and completed as the destination next time.
+  OpenCvRun run;
+  std::vector<eval::StampedPose> trajectory = {{sequence.frames[0].t_ns, SE3d()}};
+  cv::Ptr<cv::rgbd::OdometryFrame> previous = frameAt(0);
+  double total_ms = 0.0;
+  for (std::size_t i = 1; i < sequence.frames.size(); ++i) {
+    cv::Ptr<cv::rgbd::OdometryFrame> current = frameAt(i);
+    cv::Mat Rt;
+    const auto start = std::chrono::steady_clock::now();
+    const bool ok = odometry->compute(current, previous, Rt);
+    total_ms += msSince(start);
+    SE3d T_W_C = trajectory.back().T_world_body;
+    if (ok) {
+      T_W_C = T_W_C * se3FromCv(Rt);
+    } else {
+      ++run.failed_frames;
+    }
+    trajectory.push_back({sequence.frames[i].t_ns, T_W_C});
+    previous = current;
+  }
+  run.ms_per_frame = total_ms / static_cast<double>(sequence.frames.size() - 1);
+  run.ate_m = eval::ate(sequence.ground_truth, trajectory).rmse_m;
+  writeTrajectory(name, trajectory);
+  return run;
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The pipeline.
+
+double goalFps(const Size& size) { return size.width >= 640 ? 15.0 : 30.0; }
+
+void rgbdSlam(benchmark::State& state, Size size) {
+  const Sequence& sequence = sequenceFor(size);
+  slam::SlamOptions slam_options;  // defaults, as `vifusion run`
+  slam_options.tracker.use_photometric = options().photometric;
+  slam::RgbdSlam pipeline(context(), sequence.calibration, slam_options);
+  std::vector<eval::StampedPose> trajectory;
+  trajectory.reserve(sequence.frames.size());
+  // Frame 0 defines W and only starts the map (no tracking): it is the warm-up, not timed.
+  trajectory.push_back({sequence.frames[0].t_ns, pipeline.process(sequence.frames[0]).T_W_C});
+
+  double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
+  int lost = 0;
+  slam::FrameResult last;
+  std::size_t next = 1;
+  for (auto _ : state) {
+    last = pipeline.process(sequence.frames[next++]);
+    trajectory.push_back({last.t_ns, last.T_W_C});
+    preprocess_ms += last.preprocess_ms;
+    tracking_ms += last.tracking_ms;
+    mapping_ms += last.mapping_ms;
+    iterations += last.iterations;
+    lost += last.lost ? 1 : 0;
+  }
+
+  const double timed = static_cast<double>(next - 1);
+  const double ms_total = (preprocess_ms + tracking_ms + mapping_ms) / timed;
+  auto& c = state.counters;
+  c["frames"] = timed;
+  c["ms_preprocess"] = preprocess_ms / timed;
+  c["ms_tracking"] = tracking_ms / timed;
+  c["ms_mapping"] = mapping_ms / timed;
+  c["ms_total"] = ms_total;
+  c["fps"] = 1000.0 / ms_total;
+  c["gn_iterations"] = iterations / timed;
+  c["ms_per_gn_iteration"] = iterations > 0.0 ? tracking_ms / iterations : 0.0;
+  c["lost_frames"] = lost;
+  c["surfels"] = last.surfels;
+  c["map_overflow"] = last.map_overflow;
+  c["arena_bytes"] = static_cast<double>(pipeline.arenaBytes());
+  c["ate_m"] = eval::ate(sequence.ground_truth, trajectory).rmse_m;
+  writeTrajectory("vifusion_" + size.name(), trajectory);
+  c["goal_fps"] = goalFps(size);
+  c["goal_met"] = 1000.0 / ms_total >= goalFps(size) ? 1.0 : 0.0;
+  if (options().opencv) {
+    const OpenCvRun opencv = runOpenCv(sequence, slam_options.tracker.preprocess.metric, "opencv_" + size.name());
+    c["opencv_ms"] = opencv.ms_per_frame;
+    c["opencv_ate_m"] = opencv.ate_m;
+    c["opencv_failed_frames"] = opencv.failed_frames;
+    c["opencv_threads"] = cv::getNumThreads();
+    c["ratio"] = ms_total / opencv.ms_per_frame;
+    c["ratio_odometry"] = (preprocess_ms + tracking_ms) / timed / opencv.ms_per_frame;
+  }
+  state.SetLabel(context().features().device_name);
+}
+
+/// The preprocessing and map kernels of RgbdSlam built on their own, each step in its own command
+/// sequence (per surfel-array parity where it matters), in RgbdSlam's order: upload, preprocess
+/// steps, fusion steps, cleanup, compaction, flip, prediction. Poses are the ground truth relative
+/// to the first frame, so the map grows as in a well-tracked run. The tracker's copies of the
+/// predicted maps and its reference gradients are not part of this.
+struct StepPipeline {
+  gpu::CapacityPlan plan;
+  std::unique_ptr<preprocess::PreprocessStage> stage;
+  std::unique_ptr<map::MapBuffers> map;
+  std::unique_ptr<map::SurfelFusion> fusion;
+  std::unique_ptr<map::MapMaintenance> maintenance;
+  std::unique_ptr<map::ModelPrediction> prediction;
+  std::unique_ptr<gpu::MemoryArena> arena;
+  std::vector<std::unique_ptr<gpu::CommandSequence>> preprocess_steps;
+  std::array<std::vector<std::unique_ptr<gpu::CommandSequence>>, 2> fusion_steps;
+  std::array<std::unique_ptr<gpu::CommandSequence>, 2> cleanup, compaction, predict;
+
+  StepPipeline(const RigCalibration& calibration, const slam::SlamOptions& options) {
+    gpu::GpuContext& ctx = context();
+    const PinholeCamera& camera = calibration.camera;
+    preprocess::PreprocessOptions preprocess_options = options.tracker.preprocess;  // as DenseTracker sets it
+    preprocess_options.camera = camera;
+    preprocess_options.levels = options.tracker.levels;
+    preprocess_options.metric.depth_scale_m = static_cast<float>(calibration.depth_scale_m);
+    stage = std::make_unique<preprocess::PreprocessStage>(ctx, plan, preprocess_options);
+    map = std::make_unique<map::MapBuffers>(plan, options.map, camera);
+    fusion = std::make_unique<map::SurfelFusion>(ctx, plan, *map, camera, options.fusion);
+    maintenance = std::make_unique<map::MapMaintenance>(ctx, plan, *map, camera, options.maintenance);
+    map::PredictionOptions prediction_options = options.prediction;
+    prediction_options.levels = options.tracker.levels;
+    prediction = std::make_unique<map::ModelPrediction>(ctx, plan, *map, camera, prediction_options);
+    arena = gpu::MemoryArena::create(ctx, plan);
+    stage->build(*arena);
+    fusion->build(*arena, map::FusionInputs::fromPreprocess(*stage));
+    maintenance->build(*arena);
+    prediction->build(*arena);
+    map->reset(*arena);
+
+    for (const preprocess::PreprocessStep step : preprocess::kAllPreprocessSteps) {
+      preprocess_steps.push_back(gpu::CommandSequence::create(ctx, std::string("bench.pre.") + preprocess::preprocessStepName(step)));
+      preprocess_steps.back()->record([&](gpu::CommandRecorder& recorder) { stage->recordStep(recorder, step); });
+    }
+    for (int parity = 0; parity < 2; ++parity) {
+      for (const map::FusionStep step : map::kAllFusionSteps) {
+        fusion_steps[parity].push_back(gpu::CommandSequence::create(ctx, std::string("bench.fusion.") + map::fusionStepName(step)));
+        fusion_steps[parity].back()->record([&](gpu::CommandRecorder& recorder) { fusion->recordStep(recorder, step, parity); });
+      }
+      cleanup[parity] = gpu::CommandSequence::create(ctx, "bench.cleanup");
+      cleanup[parity]->record([&](gpu::CommandRecorder& recorder) {
+        maintenance->recordCleanup(recorder, parity);
+        recorder.computeBarrier();
+      });
+      compaction[parity] = gpu::CommandSequence::create(ctx, "bench.compaction");
+      compaction[parity]->record([&](gpu::CommandRecorder& recorder) {
+        maintenance->recordCompaction(recorder, parity);
+        recorder.hostReadBarrier();
+      });
+      predict[parity] = gpu::CommandSequence::create(ctx, "bench.predict");
+      predict[parity]->record([&](gpu::CommandRecorder& recorder) {
+        prediction->record(recorder, parity);
+        recorder.hostReadBarrier();
+      });
+    }
+  }
+};
+
+/// Accumulates the wall time of each named step.
+class StepTimes {
+ public:
+  template <class Fn>
+  void time(const std::string& name, Fn&& fn) {
+    const auto start = std::chrono::steady_clock::now();
+    fn();
+    totals_[name] += msSince(start);
+  }
+  const std::map<std::string, double>& totals() const { return totals_; }
+
+ private:
+  std::map<std::string, double> totals_;
+};
+
+void rgbdSlamSteps(benchmark::State& state, Size size) {
+  const Sequence& sequence = sequenceFor(size);
+  StepPipeline p(sequence.calibration, slam::SlamOptions{});
+  const SE3d T_C0_world = sequence.ground_truth.front().T_world_body.inverse();
+  StepTimes times;
+  std::size_t next = 0;
+  const auto frame = [&](bool timed) {
+    const RgbdFrame& rgbd = sequence.frames[next];
+    const SE3d T_W_C = T_C0_world * sequence.ground_truth[next].T_world_body;
+    const SE3d T_C_W = T_W_C.inverse();
+    const auto frame_index = static_cast<std::uint32_t>(next);
+    ++next;
+    StepTimes warm_up;
+    StepTimes& t = timed ? times : warm_up;
+    t.time("ms_upload", [&] { p.stage->upload(rgbd.depth.view(), rgbd.rgb.view()); });
+    for (std::size_t s = 0; s < p.preprocess_steps.size(); ++s) {
+      t.time(std::string("ms_pre_") + preprocess::preprocessStepName(preprocess::kAllPreprocessSteps[s]),
+             [&] { p.preprocess_steps[s]->run(); });
+    }
+    const int parity = p.map->current();
+    p.fusion->setFrame(T_W_C, frame_index);
+    p.maintenance->setView(T_C_W, frame_index);
+    p.prediction->setView(T_C_W, frame_index);
+    for (std::size_t s = 0; s < p.fusion_steps[parity].size(); ++s) {
+      t.time(std::string("ms_fusion_") + map::fusionStepName(map::kAllFusionSteps[s]), [&] { p.fusion_steps[parity][s]->run(); });
+    }
+    t.time("ms_map_cleanup", [&] { p.cleanup[parity]->run(); });
+    t.time("ms_map_compaction", [&] { p.compaction[parity]->run(); });
+    p.map->flip();
+    t.time("ms_map_prediction", [&] { p.predict[parity ^ 1]->run(); });
+  };
+  frame(false);  // as in rgbd_slam: frame 0 is the warm-up
+  for (auto _ : state) frame(true);
+  const double timed = static_cast<double>(next - 1);
+  for (const auto& [name, total_ms] : times.totals()) state.counters[name] = total_ms / timed;
+  state.counters["surfels"] = p.map->readState(*p.arena).surfel_count;
+  state.SetLabel(context().features().device_name);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Command line.
+
+bool parseFlag(const char* arg, const char* name, std::string& value) {
+  const std::size_t n = std::strlen(name);
+  if (std::strncmp(arg, name, n) != 0 || arg[n] != '=') return false;
+  value = arg + n + 1;
+  return true;
+}
+
+std::vector<Size> parseSizes(const std::string& text) {
+  std::vector<Size> sizes;
+  std::size_t begin = 0;
+  while (begin <= text.size()) {
+    const std::size_t end = std::min(text.find(',', begin), text.size());
+    const std::string item = text.substr(begin, end - begin);
+    Size size;
+    char x = 0;
+    char rest = 0;
+    if (std::sscanf(item.c_str(), "%d%c%d%c", &size.width, &x, &size.height, &rest) != 3 || x != 'x' ||
+        size.width < 16 || size.height < 16 || size.width % 2 != 0) {
+      throw Error("--sizes: '" + item + "' is not WIDTHxHEIGHT (even width, both ≥ 16)");
+    }
+    sizes.push_back(size);
+    begin = end + 1;
+  }
+  return sizes;
+}
+
+bool parseBool(const std::string& flag, const std::string& value) {
+  if (value == "1" || value == "true") return true;
+  if (value == "0" || value == "false") return false;
+  throw Error(flag + ": expected 1 or 0, got '" + value + "'");
+}
+
+/// Takes this benchmark's flags out of argv (Google Benchmark rejects flags it does not know).
+void parseOptions(int& argc, char** argv) {
+  BenchOptions& o = options();
+  int kept = 1;
+  for (int i = 1; i < argc; ++i) {
+    std::string value;
+    if (parseFlag(argv[i], "--frames", value)) {
+      char* end = nullptr;
+      const long frames = std::strtol(value.c_str(), &end, 10);
+      if (*end != '\0' || frames < 4 || frames > 100000) throw Error("--frames: expected 4 … 100000, got '" + value + "'");
+      o.frames = static_cast<int>(frames);
+    } else if (parseFlag(argv[i], "--sizes", value)) {
+      o.sizes = parseSizes(value);
+    } else if (parseFlag(argv[i], "--data_dir", value)) {
+      o.data_dir = value;
+    } else if (parseFlag(argv[i], "--vifusion", value)) {
+      o.vifusion = value;
+    } else if (parseFlag(argv[i], "--noise", value)) {
+      o.noise = parseBool("--noise", value);
+    } else if (parseFlag(argv[i], "--photometric", value)) {
+      o.photometric = parseBool("--photometric", value);
+    } else if (parseFlag(argv[i], "--opencv", value)) {
+      o.opencv = parseBool("--opencv", value);
+    } else if (parseFlag(argv[i], "--trajectory_dir", value)) {
+      o.trajectory_dir = value;
+    } else if (parseFlag(argv[i], "--steps", value)) {
+      o.steps = parseBool("--steps", value);
+    } else {
+      if (std::strcmp(argv[i], "--help") == 0) {
+        std::printf(
+            "bench_rgbd_slam [--frames=%d] [--sizes=640x480,320x240] [--data_dir=%s]\n"
+            "                [--vifusion=%s] [--noise=1] [--photometric=1] [--opencv=1]\n"
+            "                [--steps=1] [--trajectory_dir=DIR]\n"
+            "                [Google Benchmark flags]\n\n",
+            o.frames, o.data_dir.c_str(), o.vifusion.c_str());
+      }
+      argv[kept++] = argv[i];
+    }
+  }
+  argc = kept;
+}
+
+void registerAll() {
+  const BenchOptions& o = options();
+  for (const Size& size : o.sizes) {
+    const std::string suffix = std::string("/") + kPreset + "/" + size.name();
+    benchmark::RegisterBenchmark(("rgbd_slam" + suffix).c_str(), rgbdSlam, size)
+        ->Iterations(o.frames - 1)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
+    if (o.steps) {
+      benchmark::RegisterBenchmark(("rgbd_slam_steps" + suffix).c_str(), rgbdSlamSteps, size)
+          ->Iterations(o.frames - 1)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace vifusion
+
+int main(int argc, char** argv) {
+  try {
+    vifusion::parseOptions(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_rgbd_slam: %s\n", e.what());
+    return 2;
+  }
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  try {
+    benchmark::AddCustomContext("device", vifusion::context().features().device_name);
+    benchmark::AddCustomContext("sequence", std::string("sim:") + vifusion::kPreset + ", " +
+                                                std::to_string(vifusion::options().frames) + " frames" +
+                                                (vifusion::options().noise ? "" : ", no noise") +
+                                                (vifusion::options().photometric ? "" : ", ICP only"));
+    vifusion::registerAll();
+    benchmark::RunSpecifiedBenchmarks();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_rgbd_slam: %s\n", e.what());
+    return 1;
+  }
+  benchmark::Shutdown();
+  return 0;
+}

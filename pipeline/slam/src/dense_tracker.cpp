@@ -159,13 +159,17 @@ TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
       if (delta.head<3>().norm() < options_.converged_step && delta.tail<3>().norm() < options_.converged_step) break;
     }
   }
-  // Health: the share of the frame's valid level-0 pixels that the final iteration kept as inliers.
-  if (result.icp_inliers < options_.min_inlier_fraction * result.icp_candidates) {
+  if (!healthy(result)) {
     result.lost = true;
     return result;
   }
   result.T_ref_cur = T_ref_cur;
   return result;
+}
+
+// The share of the frame's valid level-0 pixels that the final iteration kept as inliers.
+bool DenseTracker::healthy(const TrackingResult& statistics) const {
+  return statistics.icp_inliers >= options_.min_inlier_fraction * statistics.icp_candidates;
 }
 
 }  // namespace vifusion::slam

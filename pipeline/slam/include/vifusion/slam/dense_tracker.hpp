@@ -68,6 +68,17 @@ class DenseTracker {
   /// Aligns the preprocessed frame to the reference view starting from `T_ref_cur_guess`.
   TrackingResult track(const SE3d& T_ref_cur_guess);
 
+  /// The dense terms' normal equations at `level` for the pose T_ref_cur, over a LEFT perturbation in
+  /// the reference camera frame: T_ref_cur ← exp(δ)·T_ref_cur, δ = [ρ; φ] (se3.hpp), H = JᵀWJ, b = JᵀWr,
+  /// so the Gauss-Newton step is δ = −H⁻¹b. Each term is already weighted by its inverse measurement
+  /// variance. Fills the inlier counts of `statistics`. For estimators that add their own terms (the
+  /// two-state RGB-D-inertial solver); track() runs the same evaluation.
+  NormalEquations6 evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics);
+  /// The tracking-health test on the statistics of a final level-0 evaluation (see min_inlier_fraction).
+  bool healthy(const TrackingResult& statistics) const;
+
+  const TrackerOptions& options() const { return options_; }
+
   /// Buffers of the reference view at `level` (vertices, normals, intensity in the reference camera
   /// frame; coarser intensities and all gradients are derived by recordReferenceIntensity).
   const preprocess::LevelBuffers& reference(int level) const { return reference_[level]; }
@@ -81,8 +92,6 @@ class DenseTracker {
   const PinholeCamera& camera(int level) const { return stage_->camera(level); }
 
  private:
-  NormalEquations6 evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics);
-
   gpu::GpuContext& context_;
   TrackerOptions options_;
   std::unique_ptr<preprocess::PreprocessStage> stage_;

@@ -85,3 +85,20 @@ std::optional<ImuSampleIssue> checkSampleWindow(std::span<const ImuSample> sampl
 }
 
 }  // namespace vifusion::imu
+
+namespace vifusion::imu {
+
+std::span<const ImuSample> bracketingSamples(std::span<const ImuSample> stream, std::int64_t t0_ns,
+                                             std::int64_t t1_ns) {
+  if (stream.empty()) return stream;
+  const auto after_t0 = std::upper_bound(stream.begin(), stream.end(), t0_ns,
+                                         [](std::int64_t t_ns, const ImuSample& s) { return t_ns < s.t_ns; });
+  const auto at_or_after_t1 = std::lower_bound(stream.begin(), stream.end(), t1_ns,
+                                               [](const ImuSample& s, std::int64_t t_ns) { return s.t_ns < t_ns; });
+  const auto first = after_t0 == stream.begin() ? stream.begin() : after_t0 - 1;
+  const auto last = at_or_after_t1 == stream.end() ? stream.end() : at_or_after_t1 + 1;
+  if (first >= last) return stream.subspan(static_cast<std::size_t>(first - stream.begin()), 1);
+  return std::span<const ImuSample>(first, last);
+}
+
+}  // namespace vifusion::imu

@@ -51,6 +51,26 @@ TEST(SampleWindow, FindsTheBracketingSamples) {
   EXPECT_EQ(range.last, 20u);
 }
 
+TEST(SampleWindow, BracketingSamplesCutALongStreamToWhatTheChecksNeed) {
+  const std::vector<ImuSample> samples = cleanSamples();
+  const auto indices = [&](std::span<const ImuSample> part) {
+    return std::pair<long, long>(part.data() - samples.data(), part.data() - samples.data() + long(part.size()) - 1);
+  };
+  // Between samples, and on samples: the same indices checkSampleWindow reports.
+  EXPECT_EQ(indices(bracketingSamples(samples, kStartNs + 7'300'000, kStartNs + 40'100'000)), std::pair(1L, 9L));
+  EXPECT_EQ(indices(bracketingSamples(samples, kStartNs + 10'000'000, kStartNs + 45'000'000)), std::pair(2L, 9L));
+  // Frame times outside the stream keep the nearest end, so the check reports kNotCovered.
+  EXPECT_EQ(indices(bracketingSamples(samples, kStartNs - 1, kStartNs + 100'000'001)), std::pair(0L, 20L));
+  const std::span<const ImuSample> late = bracketingSamples(samples, kStartNs + 200'000'000, kStartNs + 300'000'000);
+  EXPECT_EQ(indices(late), std::pair(20L, 20L));
+  SampleRange range;
+  const auto issue = check(std::vector<ImuSample>(late.begin(), late.end()), kStartNs + 200'000'000,
+                           kStartNs + 300'000'000, range);
+  ASSERT_TRUE(issue.has_value());
+  EXPECT_EQ(issue->problem, ImuSampleProblem::kNotCovered);
+  EXPECT_TRUE(bracketingSamples({}, 0, 1).empty());
+}
+
 TEST(SampleWindow, ReportsOutOfOrderSamplesWithTheirTime) {
   std::vector<ImuSample> samples = cleanSamples();
   std::swap(samples[4], samples[5]);  // 1.025 s now comes before 1.020 s

@@ -49,4 +49,11 @@ struct SampleRange {
                                                               std::int64_t t1_ns, std::int64_t max_gap_ns,
                                                               SampleRange& range);
 
+/// The part of a time-sorted `stream` that a frame interval [t0_ns, t1_ns] needs: from the last sample at
+/// or before t0 (the first sample if none) through the first at or after t1 (the last if none), found by
+/// binary search, so a caller holding a long stream hands the checks above only what matters. An unsorted
+/// stream gives some sub-span, whose checks then report the disorder.
+std::span<const ImuSample> bracketingSamples(std::span<const ImuSample> stream, std::int64_t t0_ns,
+                                             std::int64_t t1_ns);
+
 }  // namespace vifusion::imu

@@ -1,0 +1,49 @@
+#pragma once
+// Options of the two-state RGB-D-inertial estimator (two_state_estimator.hpp), with defaults that every
+// sequence uses (the paper insists on one parameter set) and validation naming the bad field.
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace vifusion::estimator {
+
+/// The paper's ablations besides RGB-D only (which does not use this estimator).
+enum class InertialMode {
+  kRgbdInertial,  ///< every IMU residual: pose, velocity, biases, gravity direction estimated
+  kGyro,          ///< accelerometer ignored: only the rotation and gyro-bias residuals; v, b_a, q_I_W held
+};
+
+/// "rgbdi" or "gyro"; throws vifusion::Error naming the valid values otherwise.
+InertialMode inertialModeFromName(const std::string& name);
+const char* inertialModeName(InertialMode mode);
+
+struct EstimatorOptions {
+  InertialMode mode = InertialMode::kRgbdInertial;
+  /// Gauss-Newton iterations per pyramid level, finest first; the slam library copies the dense
+  /// tracker's (10, 5, 4) so both modes run the same schedule. Levels beyond the dense terms' are unused.
+  std::array<int, 3> iterations = {10, 5, 4};
+  /// A level stops early when x1's pose step is below this (translation [m] and rotation [rad]).
+  double converged_step = 1e-5;
+  /// Gauss-Newton iterations of a frame solved without the dense terms (IMU + prior only: nearly
+  /// linear, so few are needed). ≥ 1.
+  int inertial_only_iterations = 3;
+
+  /// Prior of the first state. W is the first camera frame (DESIGN §3), so its pose is known up to
+  /// this σ [m, rad]: it fixes the gauge of global position and yaw.
+  double initial_pose_sigma = 1e-6;
+  /// 1σ of the first velocity [m/s]. The first frames' poses and the IMU determine it (a joint solve of
+  /// two poses and the preintegrated Δp gives v0); the prior only keeps the first system regular.
+  double initial_velocity_sigma_mps = 1.0;
+  /// 1σ of the first gravity direction [rad] about the two horizontal axes of I, after its initialisation
+  /// from the mean specific force (an average over motion whose acceleration is ≤ 0.5 m/s² is off by ≤ 3°).
+  double initial_gravity_sigma_rad = 0.05;
+  /// Window of accelerometer samples averaged for the first gravity direction, ending at the first frame
+  /// [ns]. Longer averages out more noise; shorter sees less of the start's motion.
+  std::int64_t gravity_window_ns = 200'000'000;
+
+  /// Throws vifusion::Error naming the first field out of range.
+  void validate() const;
+};
+
+}  // namespace vifusion::estimator

@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
 
 #include "expect_error.hpp"
 #include "temp_file.hpp"
@@ -72,6 +76,40 @@ TEST(StateErrors, NoOverlapIsAnError) {
   e.t_ns = 1;
   expectError([&] { stateErrors(groundTruth(), {e}, Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, -9.81, 0)); },
               "no estimated state lies within");
+}
+
+TEST(StateCsv, WrittenStatesReadBackInTheWorldFrame) {
+  // The writer rotates v_I_S into W by the state's own q_I_W and writes gravity's direction in W; the
+  // reader must get exactly those back (17 significant digits).
+  StateRecord record;
+  record.t_ns = 1'234'567'890'123;
+  record.x.r_W_C = Eigen::Vector3d(1.0, -2.0, 0.5);
+  record.x.q_W_C = expSO3(Eigen::Vector3d(0.1, 0.2, -0.3));
+  record.x.q_I_W = expSO3(Eigen::Vector3d(1.4, 0.1, 0.7));
+  record.x.v_I_S = Eigen::Vector3d(0.3, -0.1, 0.05);
+  record.x.b_g = Eigen::Vector3d(0.01, -0.02, 0.003);
+  record.x.b_a = Eigen::Vector3d(0.1, 0.05, -0.07);
+  for (int i = 0; i < kStateDim; ++i) record.variance[i] = 1e-6 * (i + 1);
+  StateRecord later = record;
+  later.t_ns += 33'333'333;
+  const TempFile file("states.csv", "");
+  const std::vector<StateRecord> records = {record, later};
+  writeEstimatedStates(file.path(), records);
+  const std::vector<EstimatedState> read = readEstimatedStates(file.path());
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[1].t_ns, later.t_ns);
+  EXPECT_LT((read[0].v_W_S - record.x.q_I_W.conjugate() * record.x.v_I_S).norm(), 1e-15);
+  EXPECT_EQ(read[0].b_g, record.x.b_g);
+  EXPECT_EQ(read[0].b_a, record.x.b_a);
+  // Gravity points down in I; in W it is wherever q_I_W says.
+  EXPECT_LT((record.x.q_I_W * read[0].g_W - Eigen::Vector3d(0.0, 0.0, -1.0)).norm(), 1e-15);
+  std::ifstream in(file.path());
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(std::count(header.begin(), header.end(), ','), 41);
+  EXPECT_NE(header.find(",var_dg_z"), std::string::npos) << header;
+  expectError([&] { writeEstimatedStates("/nonexistent/dir/states.csv", records); },
+              "/nonexistent/dir/states.csv: cannot be written");
 }
 
 TEST(StateCsv, CorruptTablesNameFileLineAndColumn) {

@@ -1,7 +1,8 @@
 #pragma once
 // Errors of the estimated velocity, IMU biases and gravity direction against the simulator's
 // ground truth (the paper's Fig. 3). The estimate lives in its own world (the first camera frame),
-// so velocities and gravity are rotated by the ATE alignment R_gt_est first; biases live in the
+// so velocities and gravity are rotated by an alignment R_gt_est first (`vifusion eval` uses the
+// alignment of the associated poses, eval::alignPoses); biases live in the
 // IMU frame and compare directly.
 
 #include <Eigen/Core>

@@ -3,7 +3,10 @@
 #include <chrono>
 #include <string>
 
+#include "tracker_dense_terms.hpp"
 #include "vifusion/core/error.hpp"
+#include "vifusion/estimator/gravity_initialisation.hpp"
+#include "vifusion/imu/sample_window.hpp"
 
 namespace vifusion::slam {
 namespace {
@@ -14,15 +17,34 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
+SlamMode slamModeFromName(const std::string& name) {
+  if (name == "rgbd") return SlamMode::kRgbd;
+  if (name == "rgbdi") return SlamMode::kRgbdInertial;
+  if (name == "gyro") return SlamMode::kGyro;
+  throw Error("mode '" + name + "' is not one of: rgbd, rgbdi, gyro");
+}
+
+const char* slamModeName(SlamMode mode) {
+  switch (mode) {
+    case SlamMode::kRgbdInertial: return "rgbdi";
+    case SlamMode::kGyro: return "gyro";
+    case SlamMode::kRgbd: break;
+  }
+  return "rgbd";
+}
+
 void SlamOptions::validate() const {
   tracker.validate();
+  estimator.validate();
+  imu.validate();
   map.validate();
   fusion.validate();
   maintenance.validate();
   prediction.validate();
 }
 
-RgbdSlam::RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options) {
+RgbdSlam::RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options)
+    : mode_(options.mode), time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns), T_S_C_(calibration.T_S_C) {
   options.validate();
   const PinholeCamera& camera = calibration.camera;
   tracker_ = std::make_unique<DenseTracker>(context, plan_, camera, calibration.depth_scale_m, options.tracker);
@@ -33,6 +55,17 @@ RgbdSlam::RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, 
   prediction.levels = options.tracker.levels;
   prediction_ = std::make_unique<map::ModelPrediction>(context, plan_, *map_, camera, prediction);
   exporter_ = std::make_unique<map::MapExport>(context, plan_, *map_);
+  if (mode_ != SlamMode::kRgbd) {
+    estimator::EstimatorOptions estimator_options = options.estimator;
+    estimator_options.mode =
+        mode_ == SlamMode::kGyro ? estimator::InertialMode::kGyro : estimator::InertialMode::kRgbdInertial;
+    estimator_options.iterations = options.tracker.iterations;
+    estimator_options.converged_step = options.tracker.converged_step;
+    imu::ImuOptions imu_options = options.imu;
+    imu_options.noise = calibration.imu;
+    estimator_ = std::make_unique<estimator::TwoStateEstimator>(estimator_options, imu_options, calibration.T_S_C);
+    dense_terms_ = std::make_unique<TrackerDenseTerms>(*tracker_);
+  }
 
   arena_ = gpu::MemoryArena::create(context, plan_);
   tracker_->build(*arena_);
@@ -77,27 +110,86 @@ void RgbdSlam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool 
   recorder.hostReadBarrier();
 }
 
-FrameResult RgbdSlam::process(const RgbdFrame& frame) {
+void RgbdSlam::trackRgbd(FrameResult& result) {
+  const TrackingResult tracking = tracker_->track(T_previous_current_);
+  result.lost = tracking.lost;
+  result.icp_inliers = tracking.icp_inliers;
+  result.icp_candidates = tracking.icp_candidates;
+  result.rgb_inliers = tracking.rgb_inliers;
+  result.iterations = tracking.iterations;
+  // A lost frame keeps the constant-velocity guess for itself and is not fused, so the map stays
+  // clean; the velocity is then reset, so a run of lost frames stops instead of drifting away.
+  T_W_previous_ = T_W_previous_ * tracking.T_ref_cur;
+  T_previous_current_ = tracking.lost ? SE3d() : tracking.T_ref_cur;
+}
+
+void RgbdSlam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result) {
+  dense_terms_->setReference(T_W_previous_);
+  estimator::FrameSolve solve;
+  result.imu_issue =
+      estimator_->track(t_imu_ns, imu::bracketingSamples(imu, estimator_->t_ns(), t_imu_ns), dense_terms_.get(), solve);
+  if (result.imu_issue) {
+    const NavState previous = estimator_->state();
+    trackRgbd(result);
+    startEstimator(t_imu_ns, imu, &previous, result);
+    return;
+  }
+  const TrackingResult& statistics = dense_terms_->statistics();
+  result.lost = !solve.vision_used;
+  result.icp_inliers = statistics.icp_inliers;
+  result.icp_candidates = statistics.icp_candidates;
+  result.rgb_inliers = statistics.rgb_inliers;
+  result.iterations = solve.iterations;
+  result.imu_chi2 = solve.imu_chi2;
+  const NavState& x = estimator_->state();
+  const SE3d T_W_C(x.q_W_C, x.r_W_C);
+  T_previous_current_ = T_W_previous_.inverse() * T_W_C;
+  T_W_previous_ = T_W_C;
+  result.inertial = true;
+  result.state = x;
+  result.state_variance = estimator_->covarianceDiagonal();
+}
+
+void RgbdSlam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
+                              FrameResult& result) {
+  NavState x;
+  if (previous != nullptr) x = *previous;
+  x.r_W_C = T_W_previous_.translation();
+  x.q_W_C = T_W_previous_.quaternion();
+  if (previous == nullptr) {
+    const std::int64_t window_ns = estimator_->options().gravity_window_ns;
+    const std::span<const ImuSample> window = imu::bracketingSamples(imu, t_imu_ns - window_ns, t_imu_ns);
+    const auto gravity = estimator::initialGravity(window, T_W_previous_, T_S_C_);
+    if (!gravity) {  // nothing to start from yet: try again at the next frame
+      if (!result.imu_issue) result.imu_issue = imu::ImuSampleIssue{imu::ImuSampleProblem::kNoSamples, t_imu_ns, t_imu_ns};
+      return;
+    }
+    x.q_I_W = gravity->q_I_W;
+  }
+  estimator_->initialise(t_imu_ns, x);
+  result.inertial = true;
+  result.state = estimator_->state();
+  result.state_variance = estimator_->covarianceDiagonal();
+}
+
+FrameResult RgbdSlam::process(const RgbdFrame& frame, std::span<const ImuSample> imu) {
   FrameResult result;
   result.t_ns = frame.t_ns;
   const auto start = std::chrono::steady_clock::now();
   tracker_->preprocess(frame);
   result.preprocess_ms = msSince(start);
 
+  const std::int64_t t_imu_ns = frame.t_ns + time_shift_cam_imu_ns_;
   if (frame_index_ > 0) {  // the first frame defines W and only starts the map
     const auto track_start = std::chrono::steady_clock::now();
-    const TrackingResult tracking = tracker_->track(T_previous_current_);
+    if (estimator_ && estimator_->initialised()) {
+      trackInertial(t_imu_ns, imu, result);
+    } else {
+      trackRgbd(result);
+    }
     result.tracking_ms = msSince(track_start);
-    result.lost = tracking.lost;
-    result.icp_inliers = tracking.icp_inliers;
-    result.icp_candidates = tracking.icp_candidates;
-    result.rgb_inliers = tracking.rgb_inliers;
-    result.iterations = tracking.iterations;
-    // A lost frame keeps the constant-velocity guess for itself and is not fused, so the map stays
-    // clean; the velocity is then reset, so a run of lost frames stops instead of drifting away.
-    T_W_previous_ = T_W_previous_ * tracking.T_ref_cur;
-    T_previous_current_ = tracking.lost ? SE3d() : tracking.T_ref_cur;
   }
+  if (estimator_ && !estimator_->initialised()) startEstimator(t_imu_ns, imu, nullptr, result);
   result.T_W_C = T_W_previous_;
 
   const auto map_start = std::chrono::steady_clock::now();

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
              "living-room sequence, generated on first use)");
   run->add_option("--source", run_options.source, "sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE or dataset:DIR")
       ->capture_default_str();
-  run->add_option("--mode", run_options.mode, "rgbd (rgbdi and gyro come with the IMU coupling)")->capture_default_str();
+  run->add_option("--mode", run_options.mode, "rgbd, rgbdi (tightly coupled IMU) or gyro (gyroscope only)")->capture_default_str();
   run->add_option("--out", run_options.out, "Output directory")->capture_default_str();
   run->add_option("--device", run_options.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
   run->add_option("--frames", run_options.max_frames, "Stop after this many frames (0: all)")->capture_default_str();

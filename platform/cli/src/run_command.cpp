@@ -11,6 +11,7 @@
 #include "vifusion/core/error.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
 #include "vifusion/eval/metrics.hpp"
+#include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/map/surfel_ply.hpp"
 #include "vifusion/slam/rgbd_slam.hpp"
@@ -39,23 +40,28 @@ double mean(double sum, int count) { return count > 0 ? sum / count : 0.0; }
 }  // namespace
 
 int runPipeline(const RunOptions& options) {
-  if (options.mode != "rgbd") {
-    throw Error("--mode '" + options.mode + "' is not available yet (rgbdi and gyro come with the IMU coupling)");
-  }
+  slam::SlamOptions slam_options;
+  slam_options.mode = slam::slamModeFromName(options.mode);
+  slam_options.tracker.use_photometric = options.photometric;
+  const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
   const auto reader = datasets::openDataset(datasetSpec(options));
+  if (inertial && reader->imu().empty()) {
+    throw Error("--mode " + options.mode + " needs IMU data, and " + reader->describe() + " has none");
+  }
 
   gpu::GpuOptions gpu_options;
   gpu_options.device = options.device;
   const auto context = gpu::GpuContext::create(gpu_options.withEnvironment());
-  slam::SlamOptions slam_options;
-  slam_options.tracker.use_photometric = options.photometric;
   slam::RgbdSlam pipeline(*context, reader->calibration(), slam_options);
 
   const std::size_t total = options.max_frames > 0 ? std::min<std::size_t>(options.max_frames, reader->frameCount())
                                                    : reader->frameCount();
   std::vector<eval::StampedPose> trajectory;
   trajectory.reserve(total);
+  std::vector<eval::StateRecord> states;
+  states.reserve(inertial ? total : 0);
+  int imu_issues = 0;
   RgbdFrame frame;
   int lost = 0;
   double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
@@ -63,8 +69,13 @@ int runPipeline(const RunOptions& options) {
   ProgressBar progress("tracking", static_cast<int64_t>(total));
   const auto start = std::chrono::steady_clock::now();
   while (trajectory.size() < total && reader->nextFrame(frame)) {
-    const slam::FrameResult result = pipeline.process(frame);
+    const slam::FrameResult result = pipeline.process(frame, reader->imu());
     trajectory.push_back({result.t_ns, result.T_W_C});
+    if (result.inertial) states.push_back({result.t_ns, result.state, result.state_variance});
+    if (result.imu_issue && ++imu_issues <= 10) {  // the report counts them all
+      std::fprintf(stderr, "vifusion run: frame %lld: IMU not used: %s\n", static_cast<long long>(frame.index),
+                   result.imu_issue->message().c_str());
+    }
     lost += result.lost ? 1 : 0;
     preprocess_ms += result.preprocess_ms;
     tracking_ms += result.tracking_ms;
@@ -81,6 +92,12 @@ int runPipeline(const RunOptions& options) {
   eval::writeTum(trajectory_path.string() + ".tmp", trajectory);
   std::filesystem::rename(trajectory_path.string() + ".tmp", trajectory_path);
 
+  if (inertial) {
+    const std::filesystem::path states_path = std::filesystem::path(options.out) / "states.csv";
+    eval::writeEstimatedStates(states_path.string() + ".tmp", states);
+    std::filesystem::rename(states_path.string() + ".tmp", states_path);
+  }
+
   const int frames = static_cast<int>(trajectory.size());
   nlohmann::json report = {
       {"source", options.source},
@@ -89,6 +106,7 @@ int runPipeline(const RunOptions& options) {
       {"device", context->features().device_name},
       {"frames", frames},
       {"lost_frames", lost},
+      {"frames_with_imu_issues", imu_issues},
       {"ms_per_frame",
        {{"preprocess", mean(preprocess_ms, frames)}, {"tracking", mean(tracking_ms, frames)},
         {"mapping", mean(mapping_ms, frames)}}},

@@ -1,7 +1,7 @@
 #pragma once
 // `vifusion run`: the main job. Opens a source (a dataset spec, or `sim:NAME`, which generates the
-// synthetic sequence first), runs the pipeline on every frame and writes trajectory.txt (TUM) and
-// report.json into the output directory.
+// synthetic sequence first), runs the pipeline on every frame and writes trajectory.txt (TUM), map.ply
+// and report.json into the output directory, and in the inertial modes states.csv (eval/state_csv.hpp).
 
 #include <string>
 
@@ -9,7 +9,7 @@ namespace vifusion::cli {
 
 struct RunOptions {
   std::string source = "sim:living_room_0";  ///< sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR
-  std::string mode = "rgbd";                 ///< rgbd (rgbdi and gyro arrive with the IMU coupling)
+  std::string mode = "rgbd";                 ///< rgbd, rgbdi (with the IMU) or gyro (gyroscope only)
   std::string out = "vifusion_out";          ///< output directory
   std::string device;                        ///< GPU name filter
   int max_frames = 0;                        ///< > 0: stop after this many frames

@@ -1,18 +1,27 @@
 #pragma once
-// RGB-D mode of the pipeline (ElasticFusion without loop closure): every frame is tracked by the
-// dense tracker against the surfel map's prediction at the previous pose (frame-to-model), then
-// fused into the map, the map is cleaned and compacted, and the prediction for the next frame is
-// rendered — all in one command sequence per map parity, recorded once. W is the first camera frame
-// (DESIGN §3).
+// The pipeline per frame (ElasticFusion without loop closure): every frame is tracked against the surfel
+// map's prediction at the previous pose (frame-to-model), then fused into the map, the map is cleaned and
+// compacted, and the prediction for the next frame is rendered — all in one command sequence per map
+// parity, recorded once. W is the first camera frame (DESIGN §3). Modes (the paper's ablations):
+//  - rgbd: the dense tracker alone (DenseTracker::track, constant-velocity guess);
+//  - rgbdi, gyro: the two-state estimator (estimator/two_state_estimator.hpp) with the dense terms and the
+//    IMU samples between the frames. It starts at the first frame (gravity from the accelerometer window
+//    before it); a frame whose IMU samples are refused (gap, disorder, …) is tracked RGB-D only, reported,
+//    and the estimator restarts from that pose keeping its velocity, biases and gravity as prior means.
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "vifusion/core/rig_calibration.hpp"
 #include "vifusion/core/se3.hpp"
 #include "vifusion/core/sensor_data.hpp"
+#include "vifusion/core/state.hpp"
+#include "vifusion/estimator/two_state_estimator.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/gpu/memory_arena.hpp"
@@ -25,8 +34,20 @@
 
 namespace vifusion::slam {
 
+class TrackerDenseTerms;
+
+enum class SlamMode { kRgbd, kRgbdInertial, kGyro };
+/// "rgbd", "rgbdi" or "gyro"; throws vifusion::Error naming the valid values otherwise.
+SlamMode slamModeFromName(const std::string& name);
+const char* slamModeName(SlamMode mode);
+
 struct SlamOptions {
+  SlamMode mode = SlamMode::kRgbd;
   TrackerOptions tracker;
+  /// Inertial modes: the estimator's mode and iteration schedule are set from `mode` and `tracker`.
+  estimator::EstimatorOptions estimator;
+  /// Inertial modes: gap and re-integration rules; the noise is taken from the calibration.
+  imu::ImuOptions imu;
   map::MapOptions map;
   map::FusionOptions fusion;
   map::MaintenanceOptions maintenance;
@@ -49,6 +70,13 @@ struct FrameResult {
   double preprocess_ms = 0.0;   ///< wall time of upload + preprocessing
   double tracking_ms = 0.0;     ///< wall time of all Gauss-Newton iterations
   double mapping_ms = 0.0;      ///< wall time of fusion, cleanup, compaction and prediction
+  /// Inertial modes: the estimator holds this frame's state (tracked, or started or restarted at this
+  /// frame); false in rgbd mode and while the estimator waits for IMU samples to start from.
+  bool inertial = false;
+  NavState state;                                ///< the estimator's state (when `inertial`)
+  Vector18d state_variance = Vector18d::Zero();  ///< its marginal variances in δx (0: held dims)
+  double imu_chi2 = 0.0;                         ///< estimator::FrameSolve::imu_chi2
+  std::optional<imu::ImuSampleIssue> imu_issue;  ///< why the IMU could not be used this frame
 };
 
 class RgbdSlam {
@@ -58,8 +86,11 @@ class RgbdSlam {
   RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options);
   ~RgbdSlam();
 
-  /// Tracks and maps one frame. No allocation after the first call.
-  FrameResult process(const RgbdFrame& frame);
+  /// Tracks and maps one frame. `imu` holds the IMU samples on the IMU clock (t_imu = t_cam +
+  /// calibration.time_shift_cam_imu_ns), at least those since the previous frame (a whole recording's
+  /// stream is fine: the frame's part is found by binary search); rgbd mode ignores it. No allocation
+  /// after the first call.
+  FrameResult process(const RgbdFrame& frame, std::span<const ImuSample> imu = {});
 
   /// Reads the live surfels of the map (in W) into `surfels`, chunk by chunk through a small
   /// staging buffer. For the end of a run or shutdown, not the per-frame path: it allocates.
@@ -71,7 +102,17 @@ class RgbdSlam {
 
  private:
   void recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const;
+  /// Frame-to-model tracking by the dense terms alone; updates the pose and the constant-velocity guess.
+  void trackRgbd(FrameResult& result);
+  /// The two-state estimator's frame; falls back to trackRgbd() when the IMU samples are refused.
+  void trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result);
+  /// Starts the estimator at the current pose; `previous` gives velocity, biases and gravity if it ran before.
+  void startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
+                      FrameResult& result);
 
+  SlamMode mode_;
+  std::int64_t time_shift_cam_imu_ns_ = 0;
+  SE3d T_S_C_;
   gpu::CapacityPlan plan_;
   std::unique_ptr<DenseTracker> tracker_;
   std::unique_ptr<map::MapBuffers> map_;
@@ -79,6 +120,8 @@ class RgbdSlam {
   std::unique_ptr<map::MapMaintenance> maintenance_;
   std::unique_ptr<map::ModelPrediction> prediction_;
   std::unique_ptr<map::MapExport> exporter_;
+  std::unique_ptr<TrackerDenseTerms> dense_terms_;           ///< inertial modes
+  std::unique_ptr<estimator::TwoStateEstimator> estimator_;  ///< inertial modes
   std::unique_ptr<gpu::MemoryArena> arena_;
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> update_;        ///< per parity: fuse, clean, predict
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> predict_only_;  ///< per parity: predict (lost frames)

@@ -1,0 +1,31 @@
+#pragma once
+// The dense tracker as the two-state estimator's dense terms: evaluates the GPU terms at a camera pose in
+// W against the reference view rendered at T_W_ref and hands them over in the state's coordinates.
+// Unlike DenseTracker::track(), a rank-deficient dense system is usable here (a blank wall leaves the
+// sliding directions to the IMU); only an evaluation with almost no inliers is refused.
+
+#include "vifusion/estimator/two_state_estimator.hpp"
+#include "vifusion/slam/dense_tracker.hpp"
+
+namespace vifusion::slam {
+
+class TrackerDenseTerms : public estimator::DenseTerms {
+ public:
+  explicit TrackerDenseTerms(DenseTracker& tracker) : tracker_(tracker) {}
+
+  /// The pose the reference view (the map prediction) was rendered at; set before each frame.
+  void setReference(const SE3d& T_W_ref) { T_W_ref_ = T_W_ref; }
+  /// Inlier statistics of the last level-0 evaluation.
+  const TrackingResult& statistics() const { return statistics_; }
+
+  int levels() const override { return tracker_.options().levels; }
+  bool evaluate(int level, const SE3d& T_W_C, estimator::PoseSystem& system) override;
+  bool healthy() const override { return tracker_.healthy(statistics_); }
+
+ private:
+  DenseTracker& tracker_;
+  SE3d T_W_ref_;
+  TrackingResult statistics_;
+};
+
+}  // namespace vifusion::slam

@@ -1,4 +1,4 @@
-#include "frame_reader.hpp"
+#include "vifusion/daemon/frame_reader.hpp"
 
 #include <algorithm>
 #include <thread>

@@ -1,4 +1,4 @@
-#include "frame_source.hpp"
+#include "vifusion/daemon/frame_source.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>

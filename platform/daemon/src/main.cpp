@@ -8,12 +8,12 @@
 #include <memory>
 #include <thread>
 
-#include "frame_reader.hpp"
-#include "frame_source.hpp"
-#include "publisher.hpp"
-#include "slam_worker.hpp"
 #include "vifusion/config/command_line.hpp"
 #include "vifusion/core/time.hpp"
+#include "vifusion/daemon/frame_reader.hpp"
+#include "vifusion/daemon/frame_source.hpp"
+#include "vifusion/daemon/publisher.hpp"
+#include "vifusion/daemon/slam_worker.hpp"
 #include "vifusion/service/log.hpp"
 #include "vifusion/service/signal_fd.hpp"
 #include "vifusion/service/systemd_notifier.hpp"

@@ -1,4 +1,4 @@
-#include "publisher.hpp"
+#include "vifusion/daemon/publisher.hpp"
 
 #include <thread>
 

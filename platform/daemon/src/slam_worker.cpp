@@ -1,4 +1,4 @@
-#include "slam_worker.hpp"
+#include "vifusion/daemon/slam_worker.hpp"
 
 #include <thread>
 

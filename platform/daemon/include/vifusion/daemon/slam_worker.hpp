@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "shared_state.hpp"
+#include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/slam/rgbd_slam.hpp"
 

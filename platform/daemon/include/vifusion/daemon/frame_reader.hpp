@@ -1,7 +1,7 @@
 #pragma once
 // The reader thread: decodes frames from the source into the camera ring.
 
-#include "shared_state.hpp"
+#include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
 
 namespace vifusion::daemon {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "shared_state.hpp"
+#include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/config/daemon_config.hpp"
 #include "vifusion/dds/conversions.hpp"
 #include "vifusion/dds/participant.hpp"

@@ -1,39 +1,29 @@
 #!/usr/bin/env python3
 """vifusiond, vifusion-health and `vifusion echo` as separate processes on the loopback interface.
 
-usage: service_test.py BIN_DIR SIM_DIR WORK_DIR LOOPBACK_XML CASE
+usage: service_test.py BIN_DIR SIM_DIR WORK_DIR DDS_CONFIG CASE
 CASE: odometry_health | sigterm_sigkill | stall
-Every case uses a random DDS domain and a unique partition, so parallel runs cannot hear each other.
+DDS_CONFIG is a Cyclone XML that keeps DDS on lo (../shared/dds/loopback.xml). Every case uses a random
+DDS domain and a unique partition, so parallel runs cannot hear each other.
 """
 import hashlib
 import json
-import math
 import os
-import random
 import signal
 import subprocess
 import sys
-import threading
 import time
 
-BIN, SIM, WORK, LOOPBACK, CASE = sys.argv[1:6]
-DOMAIN = random.randint(1, 232)
-PARTITION = f"service-test-{os.getpid()}-{random.randint(0, 1 << 30)}"
-DDS_ARGS = ["--dds.config", LOOPBACK, "--dds.domain", str(DOMAIN), "--dds.partition", PARTITION]
-ECHO_ARGS = ["--dds-config", LOOPBACK, "--domain", str(DOMAIN), "--partition", PARTITION]
-processes = []
+from service_harness import Echo, check_odometry, dds_domain_and_partition, fail, main, start, stop
+
+BIN, SIM, WORK, DDS_CONFIG, CASE = sys.argv[1:6]
+DOMAIN, PARTITION = dds_domain_and_partition("service-test")
+DDS_ARGS = ["--dds.config", DDS_CONFIG, "--dds.domain", str(DOMAIN), "--dds.partition", PARTITION]
+ECHO_ARGS = ["--dds-config", DDS_CONFIG, "--domain", str(DOMAIN), "--partition", PARTITION]
 
 
-def fail(message):
-    print(f"FAIL: {message}", flush=True)
-    sys.exit(1)
-
-
-def start(args, **kwargs):
-    print("+", " ".join(args), flush=True)
-    process = subprocess.Popen(args, **kwargs)
-    processes.append(process)
-    return process
+def echo(topic, count, timeout_s):
+    return Echo(f"{BIN}/vifusion", topic, count, timeout_s, ECHO_ARGS)
 
 
 def daemon(out, *extra):
@@ -46,31 +36,6 @@ def health():
     # heartbeat, frame rate and overrun rules decide.
     return start([f"{BIN}/vifusion-health", *DDS_ARGS, "--health.min_frame_rate_hz", "1",
                   "--health.lost_error_s", "1000"])
-
-
-class Echo:
-    """`vifusion echo` in its own process; lines are collected with their arrival time."""
-
-    def __init__(self, topic, count, timeout_s):
-        self.lines = []
-        self.process = start([f"{BIN}/vifusion", "echo", topic, "--count", str(count), "--timeout", str(timeout_s),
-                              *ECHO_ARGS], stdout=subprocess.PIPE, text=True)
-        self.thread = threading.Thread(target=self._read, daemon=True)
-        self.thread.start()
-
-    def _read(self):
-        for line in self.process.stdout:
-            self.lines.append((time.monotonic(), json.loads(line)))
-
-    def wait(self, timeout_s):
-        code = self.process.wait(timeout_s)
-        self.thread.join(5)
-        return code
-
-
-def stop(process, sig=signal.SIGTERM, timeout_s=30):
-    process.send_signal(sig)
-    return process.wait(timeout_s)
 
 
 def sha(path):
@@ -89,35 +54,18 @@ def evaluate(out):
 
 def odometry_health():
     monitor = health()
-    diagnostics = Echo("rt/diagnostics", 0, 25)
-    odometry = Echo("rt/vifusion/odometry", 10, 40)
-    map_chunk = Echo("rt/vifusion/map", 1, 40)
+    diagnostics = echo("rt/diagnostics", 0, 25)
+    odometry = echo("rt/vifusion/odometry", 10, 40)
+    map_chunk = echo("rt/vifusion/map", 1, 40)
     service = daemon(f"{WORK}/odometry", "--map_publish_period_s", "1")
     if odometry.wait(45) != 0:
         fail(f"echo received {len(odometry.lines)} of 10 odometry messages")
-    positions = []
-    stamps = []
-    for _, message in odometry.lines:
-        p = message["pose"]["pose"]["position"]
-        q = message["pose"]["pose"]["orientation"]
-        values = [p["x"], p["y"], p["z"], q["x"], q["y"], q["z"], q["w"]]
-        if not all(isinstance(v, (int, float)) and math.isfinite(v) for v in values):
-            fail(f"non-finite pose {values}")
-        positions.append(values[:3])
-        stamp = message["header"]["stamp"]
-        stamps.append(stamp["sec"] + stamp["nanosec"] * 1e-9)
-        if message["header"]["frame_id"] != "map" or message["child_frame_id"] != "camera":
-            fail("frame ids are not map → camera")
-    moved = math.dist(positions[0], positions[-1])
+    moved, stamps = check_odometry(odometry.lines)
     steps = [b - a for a, b in zip(stamps, stamps[1:])]
     wall = odometry.lines[-1][0] - odometry.lines[0][0]
     rate = (len(stamps) - 1) / wall if wall > 0 else float("inf")
     print(f"odometry: moved {moved * 1000:.1f} mm over {stamps[-1] - stamps[0]:.3f} s of data; "
           f"received at {rate:.1f} Hz; stamp steps {min(steps) * 1000:.1f}..{max(steps) * 1000:.1f} ms", flush=True)
-    if moved < 1e-3:
-        fail("the camera does not move")
-    if min(steps) <= 0:
-        fail("odometry stamps do not increase")
     # Realtime pacing: never faster than the data's 30 Hz (with a margin for delivery jitter), and
     # fast enough to be frame-rate output rather than a trickle.
     if not 2.0 <= rate <= 45.0:
@@ -151,7 +99,7 @@ def sigterm_sigkill():
     for name in os.listdir(out):
         os.remove(os.path.join(out, name))
     # First run: SIGTERM mid-run → files written, exit 0.
-    odometry = Echo("rt/vifusion/odometry", 20, 40)
+    odometry = echo("rt/vifusion/odometry", 20, 40)
     service = daemon(out)
     if odometry.wait(45) != 0:
         fail("first run: no odometry")
@@ -170,7 +118,7 @@ def sigterm_sigkill():
     before = {name: sha(f"{out}/{name}") for name in ("trajectory.txt", "map.ply")}
 
     # Second run into the same directory: SIGKILL mid-run leaves the first run's files untouched.
-    odometry = Echo("rt/vifusion/odometry", 10, 40)
+    odometry = echo("rt/vifusion/odometry", 10, 40)
     service = daemon(out)
     if odometry.wait(45) != 0:
         fail("second run: no odometry")
@@ -187,11 +135,11 @@ def sigterm_sigkill():
 
 def stall():
     monitor = health()
-    odometry = Echo("rt/vifusion/odometry", 5, 40)
+    odometry = echo("rt/vifusion/odometry", 5, 40)
     service = daemon(f"{WORK}/stall")
     if odometry.wait(45) != 0:
         fail("no odometry")
-    diagnostics = Echo("rt/diagnostics", 0, 30)
+    diagnostics = echo("rt/diagnostics", 0, 30)
     time.sleep(1.0)  # echo discovers the health daemon
     service.send_signal(signal.SIGSTOP)
     stopped = time.monotonic()
@@ -216,12 +164,4 @@ def stall():
     stop(monitor)
 
 
-try:
-    {"odometry_health": odometry_health, "sigterm_sigkill": sigterm_sigkill, "stall": stall}[CASE]()
-    print("PASS", flush=True)
-finally:
-    for p in processes:
-        if p.poll() is None:
-            p.send_signal(signal.SIGCONT)
-            p.kill()
-            p.wait()
+main({"odometry_health": odometry_health, "sigterm_sigkill": sigterm_sigkill, "stall": stall}, CASE)

@@ -2,9 +2,10 @@
 """vifusiond, vifusion-health and `vifusion echo` as separate processes on the loopback interface.
 
 usage: service_test.py BIN_DIR SIM_DIR WORK_DIR DDS_CONFIG CASE
-CASE: odometry_health | sigterm_sigkill | stall
-DDS_CONFIG is a Cyclone XML that keeps DDS on lo (../shared/dds/loopback.xml). Every case uses a random
-DDS domain and a unique partition, so parallel runs cannot hear each other.
+CASE: odometry | odometry_health | sigterm_sigkill | stall
+DDS_CONFIG is a Cyclone XML that keeps DDS on lo (../shared/dds/loopback.xml, or the installed
+/etc/vifusion/cyclonedds.xml for `odometry`). Every case uses a random DDS domain and a unique
+partition, so parallel runs cannot hear each other.
 """
 import hashlib
 import json
@@ -50,6 +51,19 @@ def evaluate(out):
     if result.returncode != 0:
         fail(f"vifusion eval cannot read {out}: {result.stderr.strip()}")
     return json.loads(result.stdout)
+
+
+def odometry_only():
+    """Odometry reaches a reader with this DDS configuration (the installed default: tests/systemd)."""
+    stream = echo("rt/vifusion/odometry", 10, 40)
+    service = daemon(f"{WORK}/odometry-{os.getpid()}")
+    if stream.wait(45) != 0:
+        fail(f"echo received {len(stream.lines)} of 10 odometry messages with {DDS_CONFIG}")
+    moved, stamps = check_odometry(stream.lines)
+    print(f"odometry with {DDS_CONFIG}: {len(stamps)} messages, moved {moved * 1000:.1f} mm", flush=True)
+    code = stop(service)
+    if code != 0:
+        fail(f"vifusiond exited with {code} after SIGTERM")
 
 
 def odometry_health():
@@ -164,4 +178,5 @@ def stall():
     stop(monitor)
 
 
-main({"odometry_health": odometry_health, "sigterm_sigkill": sigterm_sigkill, "stall": stall}, CASE)
+main({"odometry": odometry_only, "odometry_health": odometry_health, "sigterm_sigkill": sigterm_sigkill,
+      "stall": stall}, CASE)

@@ -14,6 +14,11 @@
   sysusers-tmpfiles SYSUSERS TMPFILES
                                     systemd-sysusers then systemd-tmpfiles --create into a scratch root;
                                     checks the user, groups, directories, owners and modes
+  dds-config XML                    the shipped Cyclone DDS default keeps DDS on this machine: well-formed,
+                                    Cyclone's namespace, only interface lo, multicast off, loopback peers
+  install BUILD_DIR DESTDIR --cmake CMAKE --expect PATH...
+                                    cmake --install BUILD_DIR --component service with DESTDIR: every
+                                    expected PATH is installed (and each .xml passes dds-config)
 
 --expect-failure REGEX (before the command) inverts a check for the negative tests: it passes only if
 the check fails with a message matching REGEX. Exit status 77 means "skipped" (ctest SKIP_RETURN_CODE).
@@ -28,6 +33,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import xml.etree.ElementTree as ElementTree
 
 SKIP = 77
 
@@ -364,6 +370,53 @@ def check_sysusers_tmpfiles(sysusers, tmpfiles):
         print(f"sysusers: user vifusion ({uid}:{gid}) and its groups; tmpfiles: {', '.join('/' + r for r in expected)}")
 
 
+# --- the default Cyclone DDS configuration ------------------------------------------------------------
+
+def check_dds_config(path):
+    try:
+        root = ElementTree.parse(path).getroot()
+    except (ElementTree.ParseError, OSError) as e:
+        raise CheckFailed(f"{path}: not a readable XML file: {e}")
+
+    def elements(name):  # with or without Cyclone's namespace (https://cdds.io/config): it accepts both
+        return [e for e in root.iter() if e.tag.rsplit("}", 1)[-1] == name]
+
+    if not elements("CycloneDDS"):
+        raise CheckFailed(f"{path}: no CycloneDDS element: not a Cyclone DDS configuration")
+    interfaces = [e.get("name") for e in elements("NetworkInterface")]
+    if not interfaces:
+        raise CheckFailed(f"{path}: names no NetworkInterface: Cyclone would pick the machine's outside interface")
+    for name in interfaces:
+        if name != "lo":
+            raise CheckFailed(f"{path}: names interface '{name}': the shipped default must use lo only")
+    multicast = [(e.text or "").strip() for e in elements("AllowMulticast")]
+    if multicast != ["false"]:
+        raise CheckFailed(f"{path}: AllowMulticast is {multicast or 'unset (default: on)'}, expected false")
+    peers = [e.get("address") or "" for e in elements("Peer")]
+    if not peers or any(not p.startswith("127.") for p in peers):
+        raise CheckFailed(f"{path}: peers {peers}: unicast discovery needs loopback peers (127.0.0.1) only")
+    print(f"{path}: interfaces {interfaces}, AllowMulticast false, peers {peers}")
+
+
+# --- cmake --install -----------------------------------------------------------------------------------
+
+def check_install(build_dir, destdir, cmake, expected):
+    shutil.rmtree(destdir, ignore_errors=True)
+    rc, out = run([cmake, "--install", build_dir, "--component", "service"], env={**os.environ, "DESTDIR": destdir})
+    print(out, end="")
+    if rc != 0:
+        raise CheckFailed(f"cmake --install {build_dir} --component service: exit status {rc}")
+    installed = sorted("/" + os.path.relpath(os.path.join(d, f), destdir) for d, _, files in os.walk(destdir)
+                       for f in files)
+    missing = [path for path in expected if path not in installed]
+    if missing:
+        raise CheckFailed(f"not installed: {', '.join(missing)} (installed: {', '.join(installed)})")
+    for path in expected:
+        if path.endswith(".xml"):
+            check_dds_config(destdir + path)
+    print(f"installed {len(installed)} files, the {len(expected)} expected among them")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--expect-failure", metavar="REGEX")
@@ -376,6 +429,9 @@ def main():
     p = sub.add_parser("udev-lint"); p.add_argument("rules")
     p.add_argument("--groups", nargs="*", default=[]); p.add_argument("--require-usb-id", nargs="*", default=[])
     p = sub.add_parser("sysusers-tmpfiles"); p.add_argument("sysusers"); p.add_argument("tmpfiles")
+    p = sub.add_parser("dds-config"); p.add_argument("xml")
+    p = sub.add_parser("install"); p.add_argument("build_dir"); p.add_argument("destdir")
+    p.add_argument("--cmake", required=True); p.add_argument("--expect", nargs="+", required=True)
     args = parser.parse_args()
 
     import contextlib
@@ -391,8 +447,12 @@ def main():
                 check_udevadm(args.rules, args.sysusers)
             elif args.command == "udev-lint":
                 lint_rules(args.rules, args.groups, args.require_usb_id)
-            else:
+            elif args.command == "sysusers-tmpfiles":
                 check_sysusers_tmpfiles(args.sysusers, args.tmpfiles)
+            elif args.command == "dds-config":
+                check_dds_config(args.xml)
+            else:
+                check_install(args.build_dir, args.destdir, args.cmake, args.expect)
         failure = None
     except CheckFailed as e:
         failure = str(e)

@@ -88,6 +88,14 @@ class VethPair:
         (link,) = json.loads(ip("-n", ns, "-s", "-j", "link", "show", "dev", interface))
         return link["stats64"]
 
+    @staticmethod
+    def udp_sockets(ns):
+        """`ss -uapn` inside `ns`: every UDP socket with its local address and owning process."""
+        result = subprocess.run(["ip", "netns", "exec", ns, "ss", "-uapn"], capture_output=True, text=True)
+        if result.returncode != 0:
+            fail(f"ss -uapn in {ns} failed: {result.stderr.strip()}")
+        return result.stdout
+
 
 def write_unicast_config(path, interface, peer):
     """A Cyclone DDS configuration that uses only `interface`, no multicast, and discovers by unicast to

@@ -32,12 +32,13 @@ def dds_domain_and_partition(tag):
 
 
 _PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+_prctl = ctypes.CDLL(None, use_errno=True).prctl  # resolved here: the child only calls it
 
 
 def _die_with_parent():
     # In the child before exec: SIGKILL when the test process dies, however it dies (ctest kills only
     # the test at a timeout), so no daemon outlives its test; the setting survives `ip netns exec`.
-    ctypes.CDLL(None, use_errno=True).prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
+    _prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
 
 
 def start(args, **kwargs):

@@ -414,6 +414,14 @@ def check_install(build_dir, destdir, cmake, expected):
     for path in expected:
         if path.endswith(".xml"):
             check_dds_config(destdir + path)
+    # The installed configuration must be one the installed daemon accepts (a typo stops the service).
+    daemons = [path for path in expected if path.endswith("/vifusiond")]
+    for config in (path for path in expected if path.endswith(".yaml")):
+        for daemon in daemons:
+            rc, out = run([destdir + daemon, "--config", destdir + config, "--dump-config"])
+            if rc != 0:
+                raise CheckFailed(f"{config}: the installed {daemon} rejects it (exit {rc}): {out.strip()}")
+            print(f"{config}: accepted by {daemon}")
     print(f"installed {len(installed)} files, the {len(expected)} expected among them")
 
 

@@ -158,7 +158,7 @@ def stall():
     service.send_signal(signal.SIGSTOP)
     stopped = time.monotonic()
     flagged = []
-    # Resume well within the pipeline's 5 s GPU wait, which counts the stopped time as a hang.
+    # Resume well within the pipeline's 60 s GPU wait, which counts the stopped time as a hang.
     while not flagged and time.monotonic() < stopped + 3.0:
         time.sleep(0.05)
         flagged = [t for t, m in list(diagnostics.lines) if t > stopped and any(

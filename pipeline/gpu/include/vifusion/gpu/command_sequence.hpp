@@ -60,8 +60,11 @@ class CommandSequence {
   /// Waits for this sequence's previous submission first (a command buffer runs once at a time).
   uint64_t submit();
   /// Waits until submission `ticket` completed. Throws vifusion::Error naming the sequence on
-  /// timeout or device loss, so a hung GPU becomes a reportable fault, not a silent stall.
-  void wait(uint64_t ticket, int64_t timeout_ns = 5'000'000'000);
+  /// timeout or device loss, so a hung GPU becomes a reportable fault, not a silent stall. The default
+  /// is generous: on lavapipe sharing 2 oversubscribed cores one map update of a 640×480 run took
+  /// longer than the former 5 s and killed a healthy run; a live service's liveness is the systemd
+  /// watchdog's job, which sees frames stop long before this fires.
+  void wait(uint64_t ticket, int64_t timeout_ns = 60'000'000'000);
   void run() { wait(submit()); }
   bool isComplete(uint64_t ticket) const;
 

@@ -68,6 +68,17 @@ SampleMessages::SampleMessages() {
   Matrix18d covariance = Matrix18d::Identity();
   for (int i = 0; i < 18; ++i) covariance(i, i) = 1e-3 * (i + 1);
   imu_state = makeImuState(t_ns + 4, "world", x, covariance);
+  Vector18d variance;
+  for (int i = 0; i < 18; ++i) variance(i) = 1e-3 * (i + 1) / 3.0;
+  Vector18d held = variance;
+  held.segment<3>(kIdxV).setZero();
+  held.segment<3>(kIdxBa).setZero();
+  held.segment<3>(kIdxG).setZero();
+  imu_state_from_variances = makeImuStateFromVariances(t_ns + 6, "world", x, held);
+  x.r_W_C = Eigen::Vector3d(1.0 / 3.0, -1e-300, 12345.678);
+  x.q_W_C = Eigen::Quaterniond(Eigen::AngleAxisd(-0.7, Eigen::Vector3d(3, -1, 2).normalized()));
+  inertial_odometry = makeInertialOdometry(t_ns + 7, "world", "camera", x, variance, Eigen::Vector3d(0.1, -0.2, 0.3),
+                                           samplePose(0.05, 0.02));
 
   status.header = makeHeader(t_ns + 5, "vifusion");
   status.heartbeat = std::numeric_limits<std::uint64_t>::max();
@@ -80,6 +91,7 @@ SampleMessages::SampleMessages() {
   status.surfel_count = 1'999'999;
   status.frames_processed = 123'456'789'012ULL;
   status.lost_frames = 42;
+  status.imu_issue_frames = 7;
 }
 
 }  // namespace vifusion::dds::test

@@ -26,6 +26,10 @@ struct SampleMessages {
   msg::PointCloud2 map{};
   msg::DiagnosticArray diagnostics{};
   msg::ImuState imu_state{};
+  /// From marginal variances with held blocks (gyro mode): their variances go out as −1.
+  msg::ImuState imu_state_from_variances{};
+  /// The rgbdi odometry: pose covariance from the variances, twist from the estimator's velocity.
+  msg::Odometry inertial_odometry{};
   msg::Status status{};
 };
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -124,6 +125,120 @@ TEST(DdsConversions, ImuStateGravityCovarianceMatchesAPerturbation) {
   EXPECT_LT((g_W_perturbed - g_W - J * dg).norm(), 1e-12);
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(at_x.gravity_direction_covariance[i], J.row(i).squaredNorm(), 1e-12);
   EXPECT_NEAR(g_W.norm(), 1.0, 1e-15);
+}
+
+TEST(DdsConversions, ImuStateFromVariancesIsTheDiagonalCovariance) {
+  NavState x;
+  x.q_I_W = Eigen::Quaterniond(Eigen::AngleAxisd(0.9, Eigen::Vector3d(-1, 2, 0.3).normalized()));
+  x.v_I_S = Eigen::Vector3d(0.4, -0.1, 0.25);
+  Vector18d variance;
+  for (int i = 0; i < kStateDim; ++i) variance(i) = 0.01 * (i + 1);
+  const Matrix18d covariance = variance.asDiagonal();
+  const msg::ImuState from_variances = makeImuStateFromVariances(3, "map", x, variance);
+  const msg::ImuState from_covariance = makeImuState(3, "map", x, covariance);
+  EXPECT_STREQ(from_variances.header.frame_id, "map");
+  EXPECT_EQ(from_variances.velocity.x, from_covariance.velocity.x);
+  EXPECT_EQ(from_variances.gravity_direction.z, from_covariance.gravity_direction.z);
+  const Eigen::Matrix3d R_W_I = x.q_I_W.conjugate().toRotationMatrix();
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(from_variances.velocity_covariance[i], from_covariance.velocity_covariance[i]);
+    EXPECT_EQ(from_variances.gravity_direction_covariance[i], from_covariance.gravity_direction_covariance[i]);
+    EXPECT_EQ(from_variances.gyro_bias_covariance[i], variance(kIdxBg + i));
+    EXPECT_EQ(from_variances.accel_bias_covariance[i], variance(kIdxBa + i));
+    // Σ_j R_ij² σ²_j: the W-axis variance of R_W_I·δv with independent I-axis components.
+    double expected = 0.0;
+    for (int j = 0; j < 3; ++j) expected += R_W_I(i, j) * R_W_I(i, j) * variance(kIdxV + j);
+    EXPECT_NEAR(from_variances.velocity_covariance[i], expected, 1e-15);
+  }
+}
+
+TEST(DdsConversions, ImuStateMarksHeldBlocksAsNotEstimated) {
+  // Gyro mode holds δv, δb_a and δg: their variances are exactly 0 (slam::FrameResult::state_variance).
+  NavState x;
+  Vector18d variance = Vector18d::Constant(1e-4);
+  variance.segment<3>(kIdxV).setZero();
+  variance.segment<3>(kIdxBa).setZero();
+  variance.segment<3>(kIdxG).setZero();
+  const msg::ImuState state = makeImuStateFromVariances(0, "map", x, variance);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(state.velocity_covariance[i], -1.0);
+    EXPECT_EQ(state.accel_bias_covariance[i], -1.0);
+    EXPECT_EQ(state.gravity_direction_covariance[i], -1.0);
+    EXPECT_EQ(state.gyro_bias_covariance[i], 1e-4);
+  }
+  // One estimated axis is enough for the block to count as estimated: its zeros are then real zeros.
+  variance(kIdxV + 1) = 2e-4;
+  const msg::ImuState partly = makeImuStateFromVariances(0, "map", x, variance);
+  EXPECT_EQ(partly.velocity_covariance[0], 0.0);
+  EXPECT_EQ(partly.velocity_covariance[1], 2e-4);
+}
+
+TEST(DdsConversions, OdometryPoseCovarianceIsTheStateDiagonalInRosOrder) {
+  Vector18d variance;
+  for (int i = 0; i < kStateDim; ++i) variance(i) = 1.0 + i;
+  const Matrix6d covariance = odometryPoseCovariance(variance);
+  // ROS [x, y, z, rx, ry, rz] = the state's [δr (W), δα (W)].
+  for (int r = 0; r < 6; ++r) {
+    for (int c = 0; c < 6; ++c) EXPECT_EQ(covariance(r, c), r == c ? variance(kIdxR + r) : 0.0) << r << "," << c;
+  }
+  const msg::Odometry odometry = makeOdometry(0, "map", "camera", SE3d(), Eigen::Vector3d::Zero(),
+                                              Eigen::Vector3d::Zero(), covariance, Matrix6d::Zero());
+  EXPECT_EQ(odometry.pose.covariance[0], variance(kIdxR));            // x
+  EXPECT_EQ(odometry.pose.covariance[14], variance(kIdxR + 2));       // z
+  EXPECT_EQ(odometry.pose.covariance[21], variance(kIdxAlpha));       // rx
+  EXPECT_EQ(odometry.pose.covariance[35], variance(kIdxAlpha + 2));   // rz
+  EXPECT_EQ(odometry.pose.covariance[1], 0.0);
+}
+
+TEST(DdsConversions, InertialOdometryTwistIsTheCameraOriginsVelocity) {
+  // A rigid rig: S moves at v_W_S and the camera turns at ω_C; S sits at p_C_S in C.
+  NavState x;
+  x.r_W_C = Eigen::Vector3d(0.5, -1.0, 2.0);
+  x.q_W_C = Eigen::Quaterniond(Eigen::AngleAxisd(0.8, Eigen::Vector3d(1, 1, -2).normalized()));
+  x.q_I_W = Eigen::Quaterniond(Eigen::AngleAxisd(-0.3, Eigen::Vector3d(0.2, 1, 0).normalized()));
+  const Eigen::Vector3d v_W_S(0.3, -0.2, 0.15);
+  x.v_I_S = x.q_I_W * v_W_S;
+  const Eigen::Vector3d omega_C(0.4, -0.7, 1.1);
+  const SE3d T_S_C(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX())),
+                   Eigen::Vector3d(0.03, -0.05, 0.11));
+  const Eigen::Vector3d p_C_S = T_S_C.inverse().translation();
+  const Vector18d variance = Vector18d::Constant(1e-6);
+  const msg::Odometry odometry = makeInertialOdometry(4, "map", "camera", x, variance, omega_C, T_S_C);
+
+  // Independently: the camera's origin along the motion, r_W_C(t) = r_W_S(t) − R_W_C(t)·p_C_S with
+  // R_W_C(t) = R_W_C·Exp(ω_C t), differentiated centrally.
+  const Eigen::Matrix3d R_W_C = x.q_W_C.toRotationMatrix();
+  const Eigen::Vector3d r_W_S = x.r_W_C + R_W_C * p_C_S;
+  const auto r_W_C_at = [&](double t_s) -> Eigen::Vector3d {
+    return r_W_S + v_W_S * t_s - R_W_C * expSO3(omega_C * t_s).toRotationMatrix() * p_C_S;
+  };
+  const double h_s = 1e-5;
+  const Eigen::Vector3d v_C_expected = R_W_C.transpose() * (r_W_C_at(h_s) - r_W_C_at(-h_s)) / (2 * h_s);
+  EXPECT_NEAR(odometry.twist.twist.linear.x, v_C_expected.x(), 1e-9);
+  EXPECT_NEAR(odometry.twist.twist.linear.y, v_C_expected.y(), 1e-9);
+  EXPECT_NEAR(odometry.twist.twist.linear.z, v_C_expected.z(), 1e-9);
+  EXPECT_EQ(odometry.twist.twist.angular.y, omega_C.y());
+  // The pose is the state's.
+  EXPECT_EQ(odometry.pose.pose.position.x, x.r_W_C.x());
+  EXPECT_NEAR(std::abs(odometry.pose.pose.orientation.w), std::abs(x.q_W_C.w()), 1e-15);
+  EXPECT_STREQ(odometry.header.frame_id, "map");
+  EXPECT_STREQ(odometry.child_frame_id, "camera");
+}
+
+TEST(DdsConversions, InertialOdometryTwistCovarianceIsTheVelocityVarianceInTheCamera) {
+  NavState x;
+  // C = W, and I is W turned by +90° about x: I's (x, y, z) are W's and C's (x, −z, y).
+  x.q_I_W = Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()));
+  Vector18d variance = Vector18d::Zero();
+  variance.segment<6>(kIdxR) << 1, 2, 3, 4, 5, 6;
+  variance.segment<3>(kIdxV) << 10, 20, 30;
+  const msg::Odometry odometry = makeInertialOdometry(0, "map", "camera", x, variance, Eigen::Vector3d::Zero(), SE3d());
+  EXPECT_NEAR(odometry.twist.covariance[0], 10.0, 1e-12);   // C x = I x
+  EXPECT_NEAR(odometry.twist.covariance[7], 30.0, 1e-12);   // C y = I z
+  EXPECT_NEAR(odometry.twist.covariance[14], 20.0, 1e-12);  // C z = −I y
+  EXPECT_NEAR(odometry.twist.covariance[1], 0.0, 1e-12);
+  for (int i = 3; i < 6; ++i) EXPECT_EQ(odometry.twist.covariance[7 * i], 0.0) << "angular: unknown";
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(odometry.pose.covariance[7 * i], 1.0 + i);
 }
 
 TEST(DdsConversions, PointCloud2DescribesMapPoints) {

@@ -23,6 +23,7 @@ TEST(DdsPublish, AllocatesNothingOfOurs) {
   std::array<msg::TransformStamped, 1> transforms{};
   const NavState x;
   const Matrix18d covariance = Matrix18d::Identity();
+  const Vector18d variance = Vector18d::Ones();
 
   const std::uint64_t before = vifusion::test::heapAllocationCount();
   for (std::int64_t t_ns = 0; t_ns < 50; ++t_ns) {
@@ -33,6 +34,10 @@ TEST(DdsPublish, AllocatesNothingOfOurs) {
     transforms[0] = makeTransformStamped(t_ns, "world", "camera", T_W_C);
     EXPECT_TRUE(tf_writer.write(makeTfMessage(transforms)));
     EXPECT_TRUE(imu_writer.write(makeImuState(t_ns, "world", x, covariance)));
+    // The inertial modes' builders (vifusiond's publisher, per frame).
+    EXPECT_TRUE(imu_writer.write(makeImuStateFromVariances(t_ns, "world", x, variance)));
+    EXPECT_TRUE(odometry_writer.write(
+        makeInertialOdometry(t_ns, "world", "camera", x, variance, Eigen::Vector3d(0, 0, 0.1), T_W_C)));
     EXPECT_TRUE(map_writer.write(makePointCloud2(t_ns, "world", points)));
   }
   EXPECT_EQ(vifusion::test::heapAllocationCount() - before, 0u);

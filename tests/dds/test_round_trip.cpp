@@ -39,6 +39,8 @@ TEST(DdsRoundTrip, EveryTopicTypeComesBackExactly) {
   expectRoundTrip(participant, topics::kMap, samples.map);
   expectRoundTrip(participant, topics::kDiagnostics, samples.diagnostics);
   expectRoundTrip(participant, topics::kImuState, samples.imu_state);
+  expectRoundTrip(participant, topics::kImuState, samples.imu_state_from_variances);
+  expectRoundTrip(participant, topics::kOdometry, samples.inertial_odometry);
   expectRoundTrip(participant, topics::kStatus, samples.status);
 }
 

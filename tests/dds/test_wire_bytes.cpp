@@ -130,6 +130,37 @@ TEST(DdsWireBytes, OdometryIsXcdr1LittleEndian) {
   EXPECT_EQ(serialised(topics::kOdometry, odometry), expected.bytes());
 }
 
+TEST(DdsWireBytes, ImuStateIsXcdr1LittleEndian) {
+  // vifusion_msgs/ImuState as a ROS 2 vifusion_msgs package with the same fields would parse it: I = W
+  // keeps every value exact; the gravity direction is held (gyro mode), so its variances are −1.
+  NavState x;
+  x.v_I_S = Eigen::Vector3d(0.5, -0.25, 2.0);
+  x.b_g = Eigen::Vector3d(0.125, 0.0, -0.0625);
+  x.b_a = Eigen::Vector3d(-1.5, 0.75, 4.0);
+  Vector18d variance = Vector18d::Zero();
+  variance.segment<3>(kIdxV) << 0.25, 0.5, 1.0;
+  variance.segment<3>(kIdxBg) << 1.0 / 1024, 2.0 / 1024, 3.0 / 1024;
+  variance.segment<3>(kIdxBa) << 8.0, 16.0, 32.0;
+  const msg::ImuState state = makeImuStateFromVariances(3 * kNsPerSecond + 250, "map", x, variance);
+
+  ExpectedBytes expected;
+  expected.raw({0x00, 0x01, 0x00, 0x00});  // CDR_LE; ends on a double, so no padding
+  expected.i32(3).u32(250);                //  0: stamp
+  expected.string("map");                  //  8: length 4 + "map\0" → 16, already a multiple of 8
+  expected.f64(0.5).f64(-0.25).f64(2.0);   // 16: velocity in W
+  expected.f64(0.125).f64(0.0).f64(-0.0625);  // 40: gyro_bias
+  expected.f64(-1.5).f64(0.75).f64(4.0);      // 64: accel_bias
+  expected.f64(0.0).f64(0.0).f64(-1.0);       // 88: gravity_direction in W
+  ASSERT_EQ(expected.offset(), 112u);
+  expected.f64(0.25).f64(0.5).f64(1.0);                       // 112: velocity_covariance
+  expected.f64(1.0 / 1024).f64(2.0 / 1024).f64(3.0 / 1024);   // 136: gyro_bias_covariance
+  expected.f64(8.0).f64(16.0).f64(32.0);                      // 160: accel_bias_covariance
+  expected.f64(-1.0).f64(-1.0).f64(-1.0);                     // 184: gravity_direction_covariance: held
+  ASSERT_EQ(expected.offset(), 208u);
+
+  EXPECT_EQ(serialised(topics::kImuState, state), expected.bytes());
+}
+
 TEST(DdsWireBytes, TrailingPaddingIsCountedInTheOptions) {
   msg::KeyValue key_value{const_cast<char*>("fps"), const_cast<char*>("30")};
   msg::DiagnosticStatus status{diagnostic_msgs_msg_DiagnosticStatus_Constants_ERROR,

@@ -18,8 +18,13 @@ char* borrow(const char* text) { return const_cast<char*>(text); }
 
 msg::Vector3 toVector3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-void copyDiagonal(const Eigen::Matrix3d& covariance, double (&out)[3]) {
-  for (int i = 0; i < 3; ++i) out[i] = covariance(i, i);
+/// The diagonal of J·Σ·Jᵀ for the 3×3 block of δx starting at `index`; all −1 when that block is all
+/// zero (held: conversions.hpp).
+void copyDiagonal(const Eigen::Matrix3d& J, const Matrix18d& covariance, int index, double (&out)[3]) {
+  const Eigen::Matrix3d block = covariance.block<3, 3>(index, index);
+  const bool held = (block.array() == 0.0).all();
+  const Eigen::Matrix3d mapped = J * block * J.transpose();
+  for (int i = 0; i < 3; ++i) out[i] = held ? -1.0 : mapped(i, i);
 }
 
 void copyRowMajor(const Matrix6d& covariance, double (&out)[36]) {
@@ -116,12 +121,41 @@ msg::ImuState makeImuState(std::int64_t t_ns, const char* world_frame_id, const 
   message.gyro_bias = toVector3(x.b_g);
   message.accel_bias = toVector3(x.b_a);
   message.gravity_direction = toVector3(R_W_I * down_I);
-  copyDiagonal(R_W_I * covariance.block<3, 3>(kIdxV, kIdxV) * R_W_I.transpose(), message.velocity_covariance);
-  copyDiagonal(covariance.block<3, 3>(kIdxBg, kIdxBg), message.gyro_bias_covariance);
-  copyDiagonal(covariance.block<3, 3>(kIdxBa, kIdxBa), message.accel_bias_covariance);
-  copyDiagonal(J_gravity_dg * covariance.block<3, 3>(kIdxG, kIdxG) * J_gravity_dg.transpose(),
-               message.gravity_direction_covariance);
+  copyDiagonal(R_W_I, covariance, kIdxV, message.velocity_covariance);
+  copyDiagonal(Eigen::Matrix3d::Identity(), covariance, kIdxBg, message.gyro_bias_covariance);
+  copyDiagonal(Eigen::Matrix3d::Identity(), covariance, kIdxBa, message.accel_bias_covariance);
+  copyDiagonal(J_gravity_dg, covariance, kIdxG, message.gravity_direction_covariance);
   return message;
+}
+
+msg::ImuState makeImuStateFromVariances(std::int64_t t_ns, const char* world_frame_id, const NavState& x,
+                                        const Vector18d& variance) {
+  const Matrix18d covariance = variance.asDiagonal();  // 2.6 KB on the stack, no heap
+  return makeImuState(t_ns, world_frame_id, x, covariance);
+}
+
+Matrix6d odometryPoseCovariance(const Vector18d& variance) {
+  static_assert(kIdxAlpha == kIdxR + 3, "δr and δα are adjacent in δx, as x, y, z and rx, ry, rz in ROS");
+  Matrix6d covariance = Matrix6d::Zero();
+  covariance.diagonal() = variance.segment<6>(kIdxR);
+  return covariance;
+}
+
+msg::Odometry makeInertialOdometry(std::int64_t t_ns, const char* world_frame_id, const char* camera_frame_id,
+                                   const NavState& x, const Vector18d& variance, const Eigen::Vector3d& omega_C_radps,
+                                   const SE3d& T_S_C) {
+  const SE3d T_W_C(x.q_W_C, x.r_W_C);
+  const Eigen::Matrix3d R_W_C = T_W_C.rotationMatrix();
+  const Eigen::Matrix3d R_W_I = x.q_I_W.conjugate().toRotationMatrix();
+  const Eigen::Vector3d p_C_S = T_S_C.inverse().translation();  // S's origin in C [m]
+  // r_W_S = r_W_C + R_W_C·p_C_S, so v_W_S = v_W_C + R_W_C·(ω_C × p_C_S).
+  const Eigen::Vector3d v_W_C = R_W_I * x.v_I_S - R_W_C * omega_C_radps.cross(p_C_S);
+  const Eigen::Matrix3d R_C_I = R_W_C.transpose() * R_W_I;
+  Matrix6d twist_covariance = Matrix6d::Zero();
+  twist_covariance.topLeftCorner<3, 3>() =
+      R_C_I * variance.segment<3>(kIdxV).asDiagonal() * R_C_I.transpose();
+  return makeOdometry(t_ns, world_frame_id, camera_frame_id, T_W_C, v_W_C, omega_C_radps,
+                      odometryPoseCovariance(variance), twist_covariance);
 }
 
 std::span<const msg::PointField> mapPointFields() { return kMapPointFields; }

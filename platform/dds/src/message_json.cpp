@@ -248,6 +248,7 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "surfel_count", message.surfel_count);
   field(json, "frames_processed", message.frames_processed);
   field(json, "lost_frames", message.lost_frames);
+  field(json, "imu_issue_frames", message.imu_issue_frames);
   json.endObject();
 }
 

@@ -54,8 +54,37 @@ msg::Odometry makeOdometry(std::int64_t t_ns, const char* world_frame_id, const 
 ///   velocity = R_W_I · v_I_S, gravity_direction = R_W_I · (0, 0, −1);
 /// the covariance diagonals are those of the same linear maps applied to the δv and δg blocks
 /// (δg rotates q_I_W on the left in I, so ∂gravity_direction/∂δg = R_W_I · [(0, 0, −1)]×).
+/// A block of δx whose covariance is all zero is held, not estimated (gyro mode: δv, δb_a, δg): its
+/// three message variances are −1 (vifusion_msgs.idl), never a 0 that would read as certainty.
 msg::ImuState makeImuState(std::int64_t t_ns, const char* world_frame_id, const NavState& x,
                            const Matrix18d& covariance);
+
+/// The same from the estimator's 18 marginal variances of δx (slam::FrameResult::state_variance; 0 =
+/// held), i.e. with the covariance taken diagonal: the estimator reports no correlations, so the W-axis
+/// variances of velocity and gravity direction are Σ_j J_ij² σ²_j over the I-axis ones.
+msg::ImuState makeImuStateFromVariances(std::int64_t t_ns, const char* world_frame_id, const NavState& x,
+                                        const Vector18d& variance);
+
+/// nav_msgs/Odometry's pose covariance from the estimator's marginal variances of δx. ROS orders it
+/// [x, y, z, rx, ry, rz], 6×6 row-major, position in header.frame_id (W) and rotation about W's fixed
+/// axes; the state's (δr, δα) are exactly that (δr in W, δα a left perturbation of q_W_C: a rotation
+/// vector in W), so the diagonal is variance[kIdxR .. kIdxAlpha + 2] as is. Off the diagonal: 0, because
+/// the estimator reports marginal variances only — the correlations exist but are not published.
+Matrix6d odometryPoseCovariance(const Vector18d& variance);
+
+/// nav_msgs/Odometry of camera C from the estimator's state, for modes that estimate velocity (rgbdi):
+///  - pose T_W_C = (q_W_C, r_W_C), covariance odometryPoseCovariance(variance);
+///  - twist.linear: the velocity of C's origin, v_W_C = R_W_I·v_I_S − R_W_C·(ω_C × p_C_S), with the
+///    lever arm p_C_S (S's origin in C, from T_S_C) turned by the angular velocity `omega_C_radps`
+///    (expressed in C; the state has none, the caller supplies it), then expressed in C as the message
+///    wants; twist.angular = omega_C_radps;
+///  - twist covariance: the linear block is the δv variances (I axes) rotated into C,
+///    R_C_I·diag(σ²_v)·R_I_C — a full 3×3 block, built on the same no-correlation assumption as above;
+///    the lever-arm term's and the rotations' own uncertainty are left out (second order). The angular
+///    block is 0 = unknown: the estimator does not estimate angular velocity.
+msg::Odometry makeInertialOdometry(std::int64_t t_ns, const char* world_frame_id, const char* camera_frame_id,
+                                   const NavState& x, const Vector18d& variance, const Eigen::Vector3d& omega_C_radps,
+                                   const SE3d& T_S_C);
 
 /// One point of a map chunk: nine little-endian float32 fields, 36 bytes (mapPointFields()).
 struct MapPoint {

@@ -11,6 +11,12 @@
 // a lost frame, so every frame goes through tracking AND fusion. The map snapshot
 // (map_publish_period_s) is off: it is periodic, not per frame, and allocates while the map grows
 // (RgbdSlam::exportMap).
+//
+// In rgbdi mode the SLAM thread also hands each frame the IMU stream (RecordedImuFeed, as vifusiond
+// does for a recorded source) and the publisher adds rt/vifusion/imu_state and the estimator's
+// covariances: the camera follows a smooth B-spline (at rest until t = 0, then a pan back and forth),
+// every frame is rendered at its pose on the spline and the IMU samples are simulated from the same
+// spline without noise, so the estimator runs on every frame and refuses none of them.
 
 #include <gtest/gtest.h>
 #include <malloc.h>
@@ -21,11 +27,15 @@
 #include <cstdio>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <random>
+#include <span>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "vifusion/core/time.hpp"
+#include "vifusion/daemon/imu_feed.hpp"
 #include "vifusion/daemon/publisher.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
@@ -35,6 +45,8 @@
 #include "vifusion/scene/look_at.hpp"
 #include "vifusion/scene/renderer.hpp"
 #include "vifusion/scene/row_pool.hpp"
+#include "vifusion/sim/imu_simulator.hpp"
+#include "vifusion/sim/se3_spline.hpp"
 #include "vifusion/test/counting_allocations.hpp"
 
 namespace vifusion::daemon {
@@ -51,6 +63,22 @@ RigCalibration panCalibration() {
   return calibration;
 }
 
+/// Renders one frame of the living room seen from T_W_C (room frame, y up).
+RgbdFrame renderFrame(const scene::Renderer& renderer, const PinholeCamera& camera, const SE3d& T_W_C,
+                      Image<float>& depth_m) {
+  RgbdFrame frame;
+  frame.depth = Image<std::uint16_t>(camera.width, camera.height);
+  frame.rgb = Image<Rgb8>(camera.width, camera.height);
+  frame.depth_scale_m = 0.001;
+  renderer.render(T_W_C, camera, frame.rgb.view(), depth_m.view());
+  for (int y = 0; y < camera.height; ++y) {
+    for (int x = 0; x < camera.width; ++x) {
+      frame.depth(x, y) = static_cast<std::uint16_t>(std::lround(depth_m(x, y) * 1000.0f));
+    }
+  }
+  return frame;
+}
+
 /// 40 noise-free frames of the living room along a slow pan (2 mm and 0.23° per frame), rendered once.
 std::vector<RgbdFrame> renderPan(const PinholeCamera& camera) {
   const scene::LivingRoom room;
@@ -62,17 +90,7 @@ std::vector<RgbdFrame> renderPan(const PinholeCamera& camera) {
     const double yaw_rad = 0.004 * i;
     const Eigen::Vector3d eye_W(1.1 + 0.002 * i, 1.3, 0.8);
     const Eigen::Vector3d target_W = eye_W + Eigen::Vector3d(std::sin(yaw_rad), -0.25, -std::cos(yaw_rad));
-    RgbdFrame frame;
-    frame.depth = Image<std::uint16_t>(camera.width, camera.height);
-    frame.rgb = Image<Rgb8>(camera.width, camera.height);
-    frame.depth_scale_m = 0.001;
-    renderer.render(scene::lookAt(eye_W, target_W), camera, frame.rgb.view(), depth_m.view());
-    for (int y = 0; y < camera.height; ++y) {
-      for (int x = 0; x < camera.width; ++x) {
-        frame.depth(x, y) = static_cast<std::uint16_t>(std::lround(depth_m(x, y) * 1000.0f));
-      }
-    }
-    frames.push_back(std::move(frame));
+    frames.push_back(renderFrame(renderer, camera, scene::lookAt(eye_W, target_W), depth_m));
   }
   return frames;
 }
@@ -83,6 +101,67 @@ const RgbdFrame& pingPong(const std::vector<RgbdFrame>& frames, std::size_t i) {
   const std::size_t period = 2 * (frames.size() - 1);
   const std::size_t k = i % period;
   return frames[k < frames.size() ? k : period - k];
+}
+
+/// A camera + IMU recording for rgbdi mode: `frames` frames at kFramePeriodNs from t = 0 and the IMU
+/// stream from before the first frame (the estimator's gravity window) to after the last.
+struct InertialSequence {
+  std::vector<RgbdFrame> frames;
+  std::vector<ImuSample> imu;
+  /// Truth at the last frame in the map world W (the first camera's frame): the IMU's velocity [m/s] and
+  /// the unit vector along gravity.
+  Eigen::Vector3d last_v_W_mps = Eigen::Vector3d::Zero();
+  Eigen::Vector3d down_W = Eigen::Vector3d::Zero();
+};
+
+/// The rig is the camera alone (T_S_C = identity: the IMU sits at the camera), so the spline of S is
+/// the camera's. The motion is the pan above made smooth: at rest until t = 0, then the eye slides 8 cm
+/// sideways and the view turns 0.16 rad and back, s(t) = (1 − cos(2π t / 2.7 s)) / 2 of the way.
+InertialSequence renderInertialSequence(const RigCalibration& calibration, std::size_t frames) {
+  constexpr std::int64_t kKnotNs = 100'000'000;
+  constexpr std::int64_t kStartNs = -600'000'000;
+  const std::int64_t end_ns = static_cast<std::int64_t>(frames) * kFramePeriodNs + 200'000'000;
+  const auto pose_at = [](std::int64_t t_ns) {
+    const double t_s = std::max(0.0, nsToSeconds(t_ns));
+    const double s = 0.5 * (1.0 - std::cos(2.0 * M_PI * t_s / 2.7));
+    const double yaw_rad = 0.16 * s;
+    const Eigen::Vector3d eye_W(1.1 + 0.08 * s, 1.3, 0.8);
+    return scene::lookAt(eye_W, eye_W + Eigen::Vector3d(std::sin(yaw_rad), -0.25, -std::cos(yaw_rad)));
+  };
+  // Control point m belongs to t0 + (m − 2)·Δt (Se3Spline::controlCentreTimeNs); enough of them for the
+  // spline to cover [kStartNs + Δt, end_ns].
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<Eigen::Quaterniond> rotations;
+  for (int m = 0; kStartNs + (m - sim::Se3Spline::kOrder) * kKnotNs <= end_ns; ++m) {
+    const SE3d T_W_S = pose_at(kStartNs + (m - 2) * kKnotNs);
+    positions.push_back(T_W_S.translation());
+    rotations.push_back(T_W_S.quaternion());
+  }
+  const sim::Se3Spline spline(kStartNs, kKnotNs, positions, rotations);
+
+  sim::ImuSimOptions imu_options;
+  imu_options.noise = calibration.imu;
+  imu_options.g_W_mps2 = Eigen::Vector3d(0.0, -calibration.imu.gravity_mps2, 0.0);  // the room is y-up
+  imu_options.add_noise = false;
+  imu_options.add_biases = false;
+  imu_options.t_begin_ns = kStartNs + kKnotNs;
+  imu_options.t_end_ns = end_ns;
+  InertialSequence sequence;
+  sequence.imu = sim::simulateImu(spline, imu_options).samples;
+  const Eigen::Matrix3d R_W_room = spline.pose(0).rotationMatrix().transpose();  // W = S at frame 0
+  sequence.last_v_W_mps =
+      R_W_room * spline.kinematics(static_cast<std::int64_t>(frames - 1) * kFramePeriodNs).v_W_mps;
+  sequence.down_W = R_W_room * -Eigen::Vector3d::UnitY();
+
+  const scene::LivingRoom room;
+  scene::RowPool pool(2);
+  const scene::Renderer renderer(room, pool);
+  Image<float> depth_m(calibration.camera.width, calibration.camera.height);
+  for (std::size_t i = 0; i < frames; ++i) {
+    const SE3d T_W_C = spline.pose(static_cast<std::int64_t>(i) * kFramePeriodNs) * calibration.T_S_C;
+    sequence.frames.push_back(renderFrame(renderer, calibration.camera, T_W_C, depth_m));
+  }
+  return sequence;
 }
 
 /// What a camera driver does per frame: fill the slot the ring handed back. Copy-assigning the images
@@ -105,35 +184,61 @@ void waitUntilPublished(const SharedState& state, std::uint64_t frames) {
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
 }
 
-TEST(DaemonSteadyState, AllocatesNothingPerFrame) {
-  const RigCalibration calibration = panCalibration();
-  const std::vector<RgbdFrame> sequence = renderPan(calibration.camera);
+constexpr std::size_t kWarmUp = 50;
+constexpr std::size_t kFrames = 300;
 
+/// The newest header stamp among the samples a reader kept [ns]; −1 if none. `newest` (if given)
+/// receives a copy of that sample (its strings are the reader's: do not follow them).
+template <typename Msg>
+std::int64_t newestStampNs(dds::Reader<Msg>& reader, Msg* newest = nullptr) {
+  std::int64_t newest_ns = -1;
+  while (reader.take([&](const Msg& message) {
+    if (dds::toNs(message.header.stamp) <= newest_ns) return;
+    newest_ns = dds::toNs(message.header.stamp);
+    if (newest != nullptr) *newest = message;
+  }) > 0) {
+  }
+  return newest_ns;
+}
+
+Eigen::Vector3d toEigen(const dds::msg::Vector3& v) { return {v.x, v.y, v.z}; }
+
+/// vifusiond's per-frame path in `mode` over kFrames frames (frame(i) gives frame i; `imu` is the
+/// recording's IMU stream, empty in rgbd mode); checks the allocation counts and that every frame went
+/// through SLAM and out of the publisher.
+void expectNoAllocationPerFrame(const std::string& mode, const RigCalibration& calibration,
+                                const std::function<const RgbdFrame&(std::size_t)>& frame,
+                                const InertialSequence* inertial) {
+  const std::span<const ImuSample> imu = inertial != nullptr ? std::span<const ImuSample>(inertial->imu)
+                                                             : std::span<const ImuSample>();
   const std::unique_ptr<gpu::GpuContext> context = gpu::GpuContext::create(gpu::GpuOptions{}.withEnvironment());
   slam::SlamOptions slam_options;
+  slam_options.mode = slam::slamModeFromName(mode);
   slam_options.map.capacity = 200'000;
   slam::RgbdSlam pipeline(*context, calibration, slam_options);
 
-  constexpr std::size_t kWarmUp = 50;
-  constexpr std::size_t kFrames = 300;
   FrameSlot slot;
-  slot.frame = sequence.front();  // every ring slot sized like a frame, as vifusiond does
+  slot.frame = frame(0);  // every ring slot sized like a frame, as vifusiond does
   SharedState state(4, slot, 64);
 
   std::mt19937_64 random{std::random_device{}()};
   config::DaemonConfig config;
+  config.mode = mode;
   config.dds.domain = std::uniform_int_distribution<std::uint32_t>(1, 200)(random);
   config.dds.config = VIFUSION_DDS_LOOPBACK_CONFIG;
   config.dds.partition = "daemon_allocations_" + std::to_string(::getpid()) + "_" + std::to_string(random());
   config.status_period_s = 0.05;  // several status messages inside the measured window
   const dds::Participant participant(dds::ParticipantOptions{config.dds.domain, config.dds.config, config.dds.partition});
-  // Proof that the publisher really published in the window: it keeps the last 10 odometry samples.
+  // Proof that the publisher really published in the window: the readers keep the last 10 samples.
   dds::Reader odometry(participant, dds::topics::kOdometry);
-  Publisher publisher(participant, config, slam_options.map.confidence_threshold, state);
+  dds::Reader imu_state(participant, dds::topics::kImuState);
+  Publisher publisher(participant, config, slam_options.map.confidence_threshold, calibration.T_S_C, state);
 
+  RecordedImuFeed imu_feed(imu);
   SlamWorkerOptions worker_options;
-  worker_options.out_dir = std::filesystem::path(VIFUSION_SERVICE_WORK_DIR) / "daemon_allocations";
+  worker_options.out_dir = std::filesystem::path(VIFUSION_SERVICE_WORK_DIR) / ("daemon_allocations_" + mode);
   worker_options.expected_frames = kFrames;
+  worker_options.imu = imu.empty() ? nullptr : &imu_feed;
   SlamWorker worker(pipeline, slam_options.map, worker_options, state);
   std::thread slam_thread([&] { worker.run(); });
   std::thread publisher_thread([&] { publisher.run(); });
@@ -147,7 +252,7 @@ TEST(DaemonSteadyState, AllocatesNothingPerFrame) {
       heap_after_warm_up = test::heapAllocationCount();
       malloc_after_warm_up = mallocInUseBytes();
     }
-    fillSlot(pingPong(sequence, i), i, slot);
+    fillSlot(frame(i), i, slot);
     // Lossless, like a dataset replay: wait for a free slot rather than count an overrun.
     while (!state.frames.tryPush(std::move(slot))) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
@@ -155,9 +260,9 @@ TEST(DaemonSteadyState, AllocatesNothingPerFrame) {
   const std::uint64_t heap_allocations = test::heapAllocationCount() - heap_after_warm_up;
   const auto malloc_growth = static_cast<long long>(mallocInUseBytes()) - static_cast<long long>(malloc_after_warm_up);
 
-  std::printf("warm-up (%zu frames): %llu C++ allocations; next %zu frames: %llu, malloc in-use %+lld bytes\n", kWarmUp,
-              static_cast<unsigned long long>(heap_after_warm_up - heap_at_start), kFrames - kWarmUp,
-              static_cast<unsigned long long>(heap_allocations), malloc_growth);
+  std::printf("%s: warm-up (%zu frames): %llu C++ allocations; next %zu frames: %llu, malloc in-use %+lld bytes\n",
+              mode.c_str(), kWarmUp, static_cast<unsigned long long>(heap_after_warm_up - heap_at_start),
+              kFrames - kWarmUp, static_cast<unsigned long long>(heap_allocations), malloc_growth);
   state.source_done = true;
   slam_thread.join();
   publisher_thread.join();
@@ -172,13 +277,39 @@ TEST(DaemonSteadyState, AllocatesNothingPerFrame) {
   EXPECT_EQ(state.frames_processed.load(), kFrames);
   EXPECT_EQ(state.results.overruns(), 0u) << "the publisher fell behind";
   EXPECT_EQ(state.lost_frames.load(), 0u) << "lost frames skip fusion: the path under test did not fully run";
-  std::int64_t newest_stamp_ns = -1;
-  while (odometry.take([&](const dds::msg::Odometry& message) {
-    newest_stamp_ns = std::max(newest_stamp_ns, message.header.stamp.sec * kNsPerSecond + message.header.stamp.nanosec);
-  }) > 0) {
+  const std::int64_t last_stamp_ns = static_cast<std::int64_t>(kFrames - 1) * kFramePeriodNs;
+  EXPECT_EQ(newestStampNs(odometry), last_stamp_ns) << "the last frame's odometry was not published";
+  if (mode == "rgbd") {
+    EXPECT_EQ(newestStampNs(imu_state), -1) << "rgbd mode publishes no rt/vifusion/imu_state";
+  } else {
+    // Every frame used its IMU samples (none refused, which would take the log's allocating path) and
+    // the estimator's state went out for the last one.
+    EXPECT_EQ(state.imu_issue_frames.load(), 0u) << "frames whose IMU samples were refused";
+    dds::msg::ImuState last{};
+    EXPECT_EQ(newestStampNs(imu_state, &last), last_stamp_ns) << "the last frame's rt/vifusion/imu_state was not published";
+    // What went out is the estimator fed with the right samples: velocity and gravity near the truth.
+    const double velocity_error_mps = (toEigen(last.velocity) - inertial->last_v_W_mps).norm();
+    const double gravity_error_rad = std::acos(std::clamp(toEigen(last.gravity_direction).dot(inertial->down_W), -1.0, 1.0));
+    std::printf("rgbdi, last frame: velocity %.4f m/s off the true %.4f m/s (σ %.4f m/s along W x), gravity %.3f° off\n",
+                velocity_error_mps, inertial->last_v_W_mps.norm(), std::sqrt(last.velocity_covariance[0]),
+                gravity_error_rad * 180.0 / M_PI);
+    EXPECT_LT(velocity_error_mps, 0.02);
+    EXPECT_LT(gravity_error_rad, 1.0 * M_PI / 180.0);
   }
-  EXPECT_EQ(newest_stamp_ns, static_cast<std::int64_t>(kFrames - 1) * kFramePeriodNs)
-      << "the last frame's odometry was not published";
+}
+
+TEST(DaemonSteadyState, AllocatesNothingPerFrame) {
+  const RigCalibration calibration = panCalibration();
+  const std::vector<RgbdFrame> sequence = renderPan(calibration.camera);
+  expectNoAllocationPerFrame(
+      "rgbd", calibration, [&](std::size_t i) -> const RgbdFrame& { return pingPong(sequence, i); }, nullptr);
+}
+
+TEST(DaemonSteadyState, AllocatesNothingPerFrameInRgbdiMode) {
+  const RigCalibration calibration = panCalibration();
+  const InertialSequence sequence = renderInertialSequence(calibration, kFrames);
+  expectNoAllocationPerFrame(
+      "rgbdi", calibration, [&](std::size_t i) -> const RgbdFrame& { return sequence.frames[i]; }, &sequence);
 }
 
 }  // namespace

@@ -16,7 +16,7 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
   return {
       {"source", "sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR or klg:FILE", &c.source},
       {"out", "State directory: trajectory.txt, map.ply (written atomically), generated sim data", &c.out},
-      {"mode", "rgbd (rgbdi and gyro: not yet)", &c.mode},
+      {"mode", "rgbd, rgbdi (camera + IMU, needs a source with IMU data) or gyro (camera + gyroscope)", &c.mode},
       {"max_frames", "Stop cleanly after this many frames (0: whole source)", &c.max_frames},
       {"realtime", "Replay a dataset at its timestamps (false: as fast as possible)", &c.realtime},
       {"device", "GPU name filter (\"\": best device)", &c.device},

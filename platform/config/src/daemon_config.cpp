@@ -16,10 +16,8 @@ bool positiveFinite(double value) { return std::isfinite(value) && value > 0.0; 
 void DaemonConfig::validate() const {
   require(!source.empty(), "key 'source' is empty: give sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR or klg:FILE");
   require(!out.empty(), "key 'out' is empty: give the state directory for trajectory.txt and map.ply");
-  if (mode == "rgbdi" || mode == "gyro") {
-    throw ConfigError("key 'mode' = '" + mode + "' is not available yet (the IMU coupling is not implemented); use rgbd");
-  }
-  require(mode == "rgbd", "key 'mode' = '" + mode + "' is unknown: rgbd (rgbdi and gyro come with the IMU coupling)");
+  require(mode == "rgbd" || mode == "rgbdi" || mode == "gyro",
+          "key 'mode' = '" + mode + "' is unknown: rgbd, rgbdi or gyro");
   require(max_frames >= 0, "key 'max_frames' = " + std::to_string(max_frames) + " must be >= 0 (0: the whole source)");
   require(frame_ring >= 1 && frame_ring <= 64, "key 'frame_ring' = " + std::to_string(frame_ring) + " must be in 1..64");
   require(std::isfinite(map_publish_period_s) && map_publish_period_s >= 0.0,

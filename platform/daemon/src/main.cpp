@@ -12,6 +12,7 @@
 #include "vifusion/core/time.hpp"
 #include "vifusion/daemon/frame_reader.hpp"
 #include "vifusion/daemon/frame_source.hpp"
+#include "vifusion/daemon/imu_feed.hpp"
 #include "vifusion/daemon/publisher.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
 #include "vifusion/service/log.hpp"
@@ -46,12 +47,27 @@ int serve(const config::DaemonConfig& config) {
     return config::kExitSource;
   }
   logLine(LogLevel::Info, "source: %s", source->describe().c_str());
+  slam::SlamOptions slam_options;
+  slam_options.mode = slam::slamModeFromName(config.mode);  // validate() admitted only the valid names
+  const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
+  // The inertial modes need the source's IMU stream; without it, say so now rather than run RGB-D only.
+  if (inertial && source->imu().empty()) {
+    logLine(LogLevel::Error,
+            "source '%s' has no IMU data, and mode '%s' needs it: use mode rgbd, or a source with IMU samples "
+            "(dataset:DIR with imu.csv, sim:NAME)",
+            config.source.c_str(), config.mode.c_str());
+    return config::kExitSource;
+  }
+  if (inertial) {
+    logLine(LogLevel::Info, "mode %s: %zu IMU samples", config.mode.c_str(), source->imu().size());
+  }
+  // Borrows the reader's stream: `source` outlives the SLAM thread, joined below.
+  RecordedImuFeed imu_feed(source->imu());
 
   notifier.extendTimeout(kStartupStepUsec);
   notifier.status("building the GPU pipeline");
   std::unique_ptr<gpu::GpuContext> context;
   std::unique_ptr<slam::RgbdSlam> pipeline;
-  const slam::SlamOptions slam_options;
   try {
     gpu::GpuOptions gpu_options;
     gpu_options.device = config.device;
@@ -76,7 +92,8 @@ int serve(const config::DaemonConfig& config) {
   try {
     participant = std::make_unique<dds::Participant>(
         dds::ParticipantOptions{config.dds.domain, config.dds.config, config.dds.partition});
-    publisher = std::make_unique<Publisher>(*participant, config, slam_options.map.confidence_threshold, state);
+    publisher = std::make_unique<Publisher>(*participant, config, slam_options.map.confidence_threshold,
+                                            source->calibration().T_S_C, state);
   } catch (const std::exception& error) {
     logLine(LogLevel::Error, "DDS: %s", error.what());
     return config::kExitDds;
@@ -87,6 +104,7 @@ int serve(const config::DaemonConfig& config) {
   worker_options.max_frames = static_cast<std::uint64_t>(config.max_frames);
   worker_options.map_period_ns = secondsToNs(config.map_publish_period_s);
   worker_options.expected_frames = source->frameCount();
+  worker_options.imu = inertial ? &imu_feed : nullptr;
   SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
 
   notifier.status("waiting for the first frame");
@@ -132,11 +150,15 @@ int serve(const config::DaemonConfig& config) {
       next_pet_ns = now_ns + notifier.watchdogPeriodNs();
     }
     if (now_ns >= next_status_ns) {
-      char text[160];
-      std::snprintf(text, sizeof(text), "%s: %llu frames, %llu lost, camera ring overruns %llu",
-                    trackingText(state, ready), static_cast<unsigned long long>(frames),
-                    static_cast<unsigned long long>(state.lost_frames.load()),
-                    static_cast<unsigned long long>(state.frames.overruns()));
+      char text[200];
+      const int length = std::snprintf(text, sizeof(text), "%s: %llu frames, %llu lost, camera ring overruns %llu",
+                                       trackingText(state, ready), static_cast<unsigned long long>(frames),
+                                       static_cast<unsigned long long>(state.lost_frames.load()),
+                                       static_cast<unsigned long long>(state.frames.overruns()));
+      if (inertial && length > 0 && static_cast<std::size_t>(length) < sizeof(text)) {
+        std::snprintf(text + length, sizeof(text) - static_cast<std::size_t>(length), ", %s: %llu frames without IMU",
+                      config.mode.c_str(), static_cast<unsigned long long>(state.imu_issue_frames.load()));
+      }
       notifier.status(text);
       next_status_ns = now_ns + kNsPerSecond;
     }
@@ -158,7 +180,7 @@ int serve(const config::DaemonConfig& config) {
 
 int main(int argc, char** argv) {
   using namespace vifusion;
-  CLI::App app{"vifusiond: dense RGB-D SLAM service; results over DDS, health to systemd"};
+  CLI::App app{"vifusiond: dense RGB-D(-inertial) SLAM service; results over DDS, health to systemd"};
   config::CommandLine command_line(app);
   config::DaemonConfig config;
   if (const int code = config::parseCommandLine(app, command_line, argc, argv, "vifusiond", config); code >= 0) {

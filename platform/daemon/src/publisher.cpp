@@ -15,13 +15,16 @@ dds::msg::RingCounters counters(std::size_t fill, std::size_t capacity, std::uin
 }  // namespace
 
 Publisher::Publisher(const dds::Participant& participant, const config::DaemonConfig& config,
-                     float map_confidence_threshold, SharedState& state)
+                     float map_confidence_threshold, const SE3d& T_S_C, SharedState& state)
     : config_(config),
       map_confidence_threshold_(map_confidence_threshold),
+      T_S_C_(T_S_C),
+      velocity_estimated_(config.mode == "rgbdi"),
       state_(state),
       odometry_(participant, dds::topics::kOdometry),
       pose_(participant, dds::topics::kPose),
       tf_(participant, dds::topics::kTf),
+      imu_state_(participant, dds::topics::kImuState),
       status_(participant, dds::topics::kStatus),
       map_(participant, dds::topics::kMap) {}
 
@@ -62,11 +65,22 @@ void Publisher::publishPose(const PoseResult& result) {
     omega_C_radps = result.T_W_C.quaternion().conjugate() * last_.T_W_C.quaternion() *
                     (delta.axis() * delta.angle() / dt_s);
   }
-  // Placeholder covariance (see publisher.hpp): (1 cm)², (0.01 rad)².
-  Matrix6d pose_covariance = Matrix6d::Zero();
-  pose_covariance.diagonal() << 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4;
-  odometry_.write(dds::makeOdometry(result.t_ns, world, camera, result.T_W_C, v_W_mps, omega_C_radps, pose_covariance,
-                                    Matrix6d::Zero()));
+  if (!result.inertial) {
+    // Placeholder covariance (see publisher.hpp): (1 cm)², (0.01 rad)².
+    Matrix6d pose_covariance = Matrix6d::Zero();
+    pose_covariance.diagonal() << 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4;
+    odometry_.write(dds::makeOdometry(result.t_ns, world, camera, result.T_W_C, v_W_mps, omega_C_radps,
+                                      pose_covariance, Matrix6d::Zero()));
+  } else if (velocity_estimated_) {
+    odometry_.write(dds::makeInertialOdometry(result.t_ns, world, camera, result.state, result.state_variance,
+                                              omega_C_radps, T_S_C_));
+  } else {
+    odometry_.write(dds::makeOdometry(result.t_ns, world, camera, result.T_W_C, v_W_mps, omega_C_radps,
+                                      dds::odometryPoseCovariance(result.state_variance), Matrix6d::Zero()));
+  }
+  if (result.inertial) {
+    imu_state_.write(dds::makeImuStateFromVariances(result.t_ns, world, result.state, result.state_variance));
+  }
   pose_.write(dds::makePoseStamped(result.t_ns, world, result.T_W_C));
   std::array<dds::msg::TransformStamped, 1> transforms = {
       dds::makeTransformStamped(result.t_ns, world, camera, result.T_W_C)};
@@ -95,7 +109,7 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.frame_rate_hz = rate_hz;
   status.latency_ms = latency_ms_;
   status.camera_ring = counters(state_.frames.size(), state_.frames.capacity(), state_.frames.overruns());
-  status.imu_ring = counters(0, 0, 0);  // no IMU ring in rgbd mode
+  status.imu_ring = counters(0, 0, 0);  // no IMU ring: recorded sources hand over their whole stream (imu_feed.hpp)
   status.output_ring = counters(state_.results.size(), state_.results.capacity(), state_.results.overruns());
   const auto tracking = !have_last_ ? dds::msg::TrackingState::Initialising
                         : last_.lost ? dds::msg::TrackingState::Lost
@@ -104,6 +118,7 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.surfel_count = last_.surfels;
   status.frames_processed = frames;
   status.lost_frames = state_.lost_frames.load();
+  status.imu_issue_frames = state_.imu_issue_frames.load();
   status_.write(status);
 }
 

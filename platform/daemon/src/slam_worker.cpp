@@ -25,13 +25,29 @@ void SlamWorker::run() {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
         continue;
       }
-      const slam::FrameResult result = pipeline_.process(slot.frame);
+      const std::span<const ImuSample> imu =
+          options_.imu != nullptr ? options_.imu->samplesThrough(slot.frame.t_ns) : std::span<const ImuSample>();
+      const slam::FrameResult result = pipeline_.process(slot.frame, imu);
       trajectory_.push_back({result.t_ns, result.T_W_C});
       const std::uint64_t processed = state_.frames_processed.load() + 1;
       if (result.lost) ++state_.lost_frames;
+      if (result.imu_issue) reportImuIssue(slot.frame.index, *result.imu_issue);
+      PoseResult output;
+      output.t_ns = result.t_ns;
+      output.read_ns = slot.read_ns;
+      output.done_ns = monotonicNowNs();
+      output.T_W_C = result.T_W_C;
+      output.lost = result.lost;
+      output.inertial = result.inertial;
+      output.imu_issue = result.imu_issue.has_value();
+      output.surfels = result.surfels;
+      output.frame_number = processed;
+      if (result.inertial) {
+        output.state = result.state;
+        output.state_variance = result.state_variance;
+      }
       // A full output ring drops this result (counted): the publisher is behind, the pose is stale.
-      state_.results.tryPush(
-          PoseResult{result.t_ns, slot.read_ns, monotonicNowNs(), result.T_W_C, result.lost, result.surfels, processed});
+      state_.results.tryPush(output);
       state_.frames_processed = processed;
       // Trade-off: the export reads the map back on this thread (it owns the GPU), costing one
       // readback every map_publish_period_s; converting and publishing happen on the publisher thread.
@@ -48,6 +64,18 @@ void SlamWorker::run() {
   }
   writeOutputs();
   state_.slam_done = true;
+}
+
+void SlamWorker::reportImuIssue(std::int64_t frame_index, const imu::ImuSampleIssue& issue) {
+  const std::uint64_t count = ++state_.imu_issue_frames;
+  const std::int64_t now_ns = monotonicNowNs();
+  if (now_ns < next_imu_log_ns_) return;  // counted; the message (which allocates) only when logged
+  next_imu_log_ns_ = now_ns + kImuIssueLogPeriodNs;
+  service::logLine(service::LogLevel::Warning,
+                   "frame %lld: IMU not used, tracked RGB-D only: %s (%llu frames without IMU so far; at most "
+                   "one such line per %.0f s)",
+                   static_cast<long long>(frame_index), issue.message().c_str(), static_cast<unsigned long long>(count),
+                   nsToSeconds(kImuIssueLogPeriodNs));
 }
 
 void SlamWorker::writeOutputs() {

@@ -13,7 +13,7 @@ namespace vifusion::config {
 /// Exit codes of vifusiond and vifusion-health (README "Running the service").
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitConfig = 2;   ///< bad configuration or command line
-inline constexpr int kExitSource = 3;   ///< the source cannot be opened or read
+inline constexpr int kExitSource = 3;   ///< the source cannot be opened or read, or lacks the IMU data the mode needs
 inline constexpr int kExitGpu = 4;      ///< no usable Vulkan device, or the pipeline cannot be built
 inline constexpr int kExitDds = 5;      ///< the DDS participant, writers or readers cannot be created
 inline constexpr int kExitOutput = 6;   ///< trajectory.txt or map.ply cannot be written
@@ -45,7 +45,7 @@ struct HealthConfig {
 struct DaemonConfig {
   std::string source = "sim:living_room_0";  ///< sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE
   std::string out = "/var/lib/vifusion";     ///< state directory: trajectory.txt, map.ply, generated sim data
-  std::string mode = "rgbd";                 ///< rgbd (rgbdi and gyro come with the IMU coupling)
+  std::string mode = "rgbd";                 ///< rgbd, rgbdi (camera + IMU) or gyro (camera + gyroscope)
   std::int64_t max_frames = 0;               ///< stop cleanly after this many processed frames; 0: the whole source
   bool realtime = true;                      ///< replay a dataset at its timestamps (false: as fast as possible)
   std::string device;                        ///< GPU name filter ("" = best device)
@@ -56,7 +56,7 @@ struct DaemonConfig {
   DdsConfig dds;
   HealthConfig health;
 
-  /// Throws ConfigError naming the first key whose value is out of range or not available yet.
+  /// Throws ConfigError naming the first key whose value is out of range.
   void validate() const;
 };
 

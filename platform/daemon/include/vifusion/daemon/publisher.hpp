@@ -1,12 +1,23 @@
 #pragma once
 // The publisher thread: reads the output ring and publishes, per frame, rt/vifusion/odometry,
-// rt/vifusion/pose and rt/tf (world → camera); every status_period_s rt/vifusion/status; and each
-// map snapshot as rt/vifusion/map (PointCloud2, transient-local). All messages borrow buffers
-// allocated here at start-up; only a growing map enlarges the point buffer.
+// rt/vifusion/pose and rt/tf (world → camera), and in the inertial modes rt/vifusion/imu_state; every
+// status_period_s rt/vifusion/status; and each map snapshot as rt/vifusion/map (PointCloud2,
+// transient-local). All messages borrow buffers allocated here at start-up; only a growing map
+// enlarges the point buffer.
 //
-// Odometry covariance is a PLACEHOLDER until the IMU estimator provides the marginal covariance: a
-// fixed diagonal of (1 cm)² for position and (0.01 rad)² for rotation, and the twist covariance
-// zero (unknown). The twist is the finite difference of consecutive poses.
+// Odometry twist.angular is always the finite difference of consecutive poses (the estimator has no
+// angular-velocity state). The rest depends on what the frame carries (PoseResult::inertial):
+//  - rgbd mode, and inertial-mode frames without an estimator state (before it starts): the pose
+//    covariance is a PLACEHOLDER, a fixed diagonal of (1 cm)² for position and (0.01 rad)² for
+//    rotation; twist.linear is the finite difference of consecutive poses; twist covariance zero
+//    (unknown).
+//  - rgbdi: pose covariance from the estimator's marginal variances (dds::odometryPoseCovariance:
+//    diagonal only); twist.linear is the estimator's velocity moved to the camera's origin, with its
+//    covariance rotated into C (dds::makeInertialOdometry); angular twist covariance zero (unknown).
+//  - gyro: pose covariance from the estimator as in rgbdi; velocity is held, not estimated, so the
+//    twist is as in rgbd mode.
+// rt/vifusion/imu_state (dds::makeImuStateFromVariances) goes out for every frame with an estimator
+// state, stamped like the odometry.
 
 #include <array>
 #include <cstdint>
@@ -25,8 +36,9 @@ namespace vifusion::daemon {
 class Publisher {
  public:
   /// Creates the writers; throws vifusion::Error on a DDS failure.
+  /// `T_S_C` (camera → IMU, the calibration's) places the IMU velocity at the camera's origin.
   Publisher(const dds::Participant& participant, const config::DaemonConfig& config, float map_confidence_threshold,
-            SharedState& state);
+            const SE3d& T_S_C, SharedState& state);
   /// The thread body: runs until the SLAM thread is done and the output ring is drained.
   void run();
 
@@ -37,10 +49,13 @@ class Publisher {
 
   const config::DaemonConfig& config_;
   float map_confidence_threshold_;
+  SE3d T_S_C_;
+  bool velocity_estimated_;  ///< mode rgbdi: the estimator's velocity feeds the odometry twist
   SharedState& state_;
   dds::Writer<dds::msg::Odometry> odometry_;
   dds::Writer<dds::msg::PoseStamped> pose_;
   dds::Writer<dds::msg::TFMessage> tf_;
+  dds::Writer<dds::msg::ImuState> imu_state_;
   dds::Writer<dds::msg::Status> status_;
   dds::Writer<dds::msg::PointCloud2> map_;
 

@@ -11,6 +11,7 @@
 #include "vifusion/core/se3.hpp"
 #include "vifusion/core/sensor_data.hpp"
 #include "vifusion/core/spsc_ring.hpp"
+#include "vifusion/core/state.hpp"
 #include "vifusion/map/surfel.hpp"
 
 namespace vifusion::daemon {
@@ -21,16 +22,26 @@ struct FrameSlot {
   std::int64_t read_ns = 0;
 };
 
-/// One output ring slot: small and fixed-size, so the hand-off copies a few hundred bytes.
+/// One output ring slot: small and fixed-size (no pointers, no heap), so the hand-off copies a few
+/// hundred bytes. The estimator's state rides along in the inertial modes.
 struct PoseResult {
   std::int64_t t_ns = 0;        ///< frame stamp (the source's time base) [ns]
   std::int64_t read_ns = 0;     ///< host time the reader handed the frame over [ns]
   std::int64_t done_ns = 0;     ///< host time the SLAM thread finished it [ns]
   SE3d T_W_C;                   ///< camera pose in the map world
   bool lost = false;            ///< tracking failed for this frame
+  /// Inertial modes: `state` and `state_variance` hold the estimator's state at this frame
+  /// (slam::FrameResult::inertial); false in rgbd mode and while the estimator waits to start.
+  bool inertial = false;
+  bool imu_issue = false;       ///< this frame's IMU samples were refused (tracked RGB-D only)
   std::uint32_t surfels = 0;    ///< surfels in the map after this frame
   std::uint64_t frame_number = 0;  ///< processed frames so far, this one included
+  NavState state;               ///< slam::FrameResult::state (when `inertial`)
+  Vector18d state_variance = Vector18d::Zero();  ///< its marginal variances in δx, 0 = held (when `inertial`)
 };
+// Eigen's types are not formally trivially copyable, but hold their coefficients inline: no member
+// owns heap memory, so copying a slot is copying its bytes' worth of doubles.
+static_assert(sizeof(PoseResult) <= 512, "the output ring slot stays a small fixed-size value");
 
 /// The periodic map snapshot, exported on the SLAM thread (which owns the GPU) and converted and
 /// published on the publisher thread. Swapping vectors keeps both sides' capacity: no allocation
@@ -73,6 +84,7 @@ struct SharedState {
   std::atomic<bool> slam_done{false};     ///< the SLAM thread wrote its files and ended
   std::atomic<std::uint64_t> frames_processed{0};
   std::atomic<std::uint64_t> lost_frames{0};
+  std::atomic<std::uint64_t> imu_issue_frames{0};  ///< inertial modes: frames whose IMU samples were refused
   std::atomic<int> exit_code{0};
 
   void fail(int code) {

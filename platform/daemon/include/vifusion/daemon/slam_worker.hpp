@@ -3,11 +3,17 @@
 // maps them, hands small results to the publisher, and exports the map every map_publish_period_s.
 // When it stops (SIGTERM, end of source, max_frames) it finishes the current frame and writes
 // trajectory.txt and map.ply atomically (temporary file + rename).
+//
+// Inertial modes: each frame gets its IMU samples from an ImuFeed (imu_feed.hpp). A frame whose samples
+// the pipeline refuses (gap, disorder, not covered, …) is tracked RGB-D only; it is counted in
+// SharedState::imu_issue_frames (published in the status message) and logged at most once per
+// kImuIssueLogPeriodNs with the count so far — never fatal.
 
 #include <cstdint>
 #include <filesystem>
 #include <vector>
 
+#include "vifusion/daemon/imu_feed.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/slam/rgbd_slam.hpp"
@@ -19,7 +25,12 @@ struct SlamWorkerOptions {
   std::uint64_t max_frames = 0;           ///< 0: until the source ends or stop
   std::int64_t map_period_ns = 0;         ///< map snapshot period [ns]; 0: never
   std::size_t expected_frames = 0;        ///< trajectory capacity reserved up front
+  /// Inertial modes: the IMU samples per frame (borrowed; must outlive run()). nullptr: none (rgbd).
+  ImuFeed* imu = nullptr;
 };
+
+/// At most one log line about refused IMU samples per this period [ns]; the count is always exact.
+inline constexpr std::int64_t kImuIssueLogPeriodNs = 5'000'000'000;
 
 class SlamWorker {
  public:
@@ -30,6 +41,8 @@ class SlamWorker {
 
  private:
   void writeOutputs();
+  /// Counts a refused frame and logs it, rate-limited.
+  void reportImuIssue(std::int64_t frame_index, const imu::ImuSampleIssue& issue);
 
   slam::RgbdSlam& pipeline_;
   map::MapOptions map_options_;
@@ -37,6 +50,7 @@ class SlamWorker {
   SharedState& state_;
   std::vector<eval::StampedPose> trajectory_;
   std::vector<map::Surfel> snapshot_;
+  std::int64_t next_imu_log_ns_ = 0;  ///< host time from which the next IMU issue may be logged [ns]
 };
 
 }  // namespace vifusion::daemon

@@ -8,7 +8,8 @@
 namespace vifusion::health {
 namespace {
 
-// Overruns that increased this recently keep the rule at WARN, so a one-off drop is seen [ns].
+// Overruns (or frames without IMU) that increased this recently keep the rule at WARN, so a one-off
+// drop is seen [ns].
 constexpr std::int64_t kOverrunHoldNs = 2 * kNsPerSecond;
 
 void set(RuleResult& result, Level level, const char* format, ...) __attribute__((format(printf, 3, 4)));
@@ -33,6 +34,8 @@ void HealthRules::onStatus(const dds::msg::Status& status, std::int64_t now_ns) 
   const std::uint64_t overruns = status.camera_ring.overruns + status.output_ring.overruns;
   if (have_status_ && overruns > overruns_) overrun_increase_ns_ = now_ns;
   overruns_ = overruns;
+  if (have_status_ && status.imu_issue_frames > imu_issues_) imu_issue_increase_ns_ = now_ns;
+  imu_issues_ = status.imu_issue_frames;
   const bool lost = status.tracking_state == static_cast<std::uint8_t>(dds::msg::TrackingState::Lost);
   if (!lost) {
     lost_since_ns_ = -1;
@@ -56,7 +59,7 @@ void HealthRules::judge(std::int64_t now_ns, std::array<RuleResult, kRuleCount>&
   tracking.name = "vifusion: tracking";
   overruns.name = "vifusion: ring overruns";
   imu.name = "vifusion: imu";
-  set(imu, Level::Ok, "no IMU in rgbd mode (IMU gap rule: placeholder until the IMU driver exists)");
+  if (!inertial_) set(imu, Level::Ok, "no IMU in rgbd mode");
 
   const double age_s = nsToSeconds(now_ns - received_ns_);
   if (!have_status_ || age_s > thresholds_.heartbeat_stale_s) {
@@ -67,6 +70,7 @@ void HealthRules::judge(std::int64_t now_ns, std::array<RuleResult, kRuleCount>&
       set(heartbeat, Level::Stale, "no status from vifusiond yet");
     }
     for (RuleResult* rule : {&rate, &tracking, &overruns}) set(*rule, Level::Stale, "no recent status");
+    if (inertial_) set(imu, Level::Stale, "no recent status");
     return;
   }
   set(heartbeat, Level::Ok, "status %.2f s ago", age_s);
@@ -104,6 +108,14 @@ void HealthRules::judge(std::int64_t now_ns, std::array<RuleResult, kRuleCount>&
     set(overruns, Level::Warn, "ring overruns increasing: the SLAM thread is slower than the source");
   } else {
     set(overruns, Level::Ok, "no new overruns");
+  }
+
+  if (!inertial_) return;
+  value(imu, "imu_issue_frames", "%.0f", static_cast<double>(last_.imu_issue_frames));
+  if (imu_issue_increase_ns_ >= 0 && now_ns - imu_issue_increase_ns_ < kOverrunHoldNs) {
+    set(imu, Level::Warn, "frames tracked without IMU (samples refused: gap, disorder or not covered); see the log");
+  } else {
+    set(imu, Level::Ok, "IMU samples used on every recent frame");
   }
 }
 

@@ -27,7 +27,9 @@ inline constexpr int kRuleCount = 5;  ///< heartbeat, frame rate, tracking, ring
 
 class HealthRules {
  public:
-  explicit HealthRules(const config::HealthConfig& thresholds) : thresholds_(thresholds) {}
+  /// `inertial`: vifusiond runs an inertial mode (rgbdi, gyro), so the IMU rule watches the frames
+  /// whose IMU samples were refused; in rgbd mode that rule is always OK.
+  HealthRules(const config::HealthConfig& thresholds, bool inertial) : thresholds_(thresholds), inertial_(inertial) {}
 
   /// A status message arrived at host time `now_ns` [ns].
   void onStatus(const dds::msg::Status& status, std::int64_t now_ns);
@@ -36,12 +38,15 @@ class HealthRules {
 
  private:
   config::HealthConfig thresholds_;
+  bool inertial_ = false;
   bool have_status_ = false;
   dds::msg::Status last_{};
   std::int64_t received_ns_ = 0;
   std::int64_t lost_since_ns_ = -1;        ///< host time tracking was first seen lost; −1: not lost
   std::uint64_t overruns_ = 0;             ///< camera + output ring overruns in the last status
   std::int64_t overrun_increase_ns_ = -1;  ///< host time they last increased; −1: never
+  std::uint64_t imu_issues_ = 0;           ///< frames with refused IMU samples in the last status
+  std::int64_t imu_issue_increase_ns_ = -1;  ///< host time they last increased; −1: never
 };
 
 }  // namespace vifusion::health

@@ -55,7 +55,7 @@ int serve(const config::DaemonConfig& config) {
     return config::kExitDds;
   }
 
-  HealthRules rules(config.health);
+  HealthRules rules(config.health, config.mode != "rgbd");
   DiagnosticsMessage message;
   std::array<RuleResult, kRuleCount> results;
   std::array<Level, kRuleCount> previous;

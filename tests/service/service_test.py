@@ -2,14 +2,16 @@
 """vifusiond, vifusion-health and `vifusion echo` as separate processes on the loopback interface.
 
 usage: service_test.py BIN_DIR SIM_DIR WORK_DIR DDS_CONFIG CASE
-CASE: odometry | odometry_health | sigterm_sigkill | stall
+CASE: odometry | odometry_health | sigterm_sigkill | stall | rgbdi | imu_gap
 DDS_CONFIG is a Cyclone XML that keeps DDS on lo (../shared/dds/loopback.xml, or the installed
 /etc/vifusion/cyclonedds.xml for `odometry`). Every case uses a random DDS domain and a unique
 partition, so parallel runs cannot hear each other.
 """
 import hashlib
 import json
+import math
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -27,16 +29,16 @@ def echo(topic, count, timeout_s):
     return Echo(f"{BIN}/vifusion", topic, count, timeout_s, ECHO_ARGS)
 
 
-def daemon(out, *extra):
-    return start([f"{BIN}/vifusiond", "--source", f"dataset:{SIM}", "--out", out, "--realtime", "true",
-                  "--frame_ring", "64", *DDS_ARGS, *extra])
+def daemon(out, *extra, realtime=True):
+    return start([f"{BIN}/vifusiond", "--source", f"dataset:{SIM}", "--out", out, "--realtime",
+                  "true" if realtime else "false", "--frame_ring", "64", *DDS_ARGS, *extra])
 
 
-def health():
+def health(*extra):
     # A lost-tracking streak is not what these tests are about (160×120 tracks poorly): only the
     # heartbeat, frame rate and overrun rules decide.
     return start([f"{BIN}/vifusion-health", *DDS_ARGS, "--health.min_frame_rate_hz", "1",
-                  "--health.lost_error_s", "1000"])
+                  "--health.lost_error_s", "1000", *extra])
 
 
 def sha(path):
@@ -178,5 +180,159 @@ def stall():
     stop(monitor)
 
 
+def finite(values):
+    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
+
+
+def vector(message, key):
+    return [message[key]["x"], message[key]["y"], message[key]["z"]]
+
+
+def rgbdi():
+    """mode rgbdi: separate readers get rt/vifusion/imu_state (finite, a unit gravity direction, positive
+    variances) and odometry whose pose covariance comes from the estimator (positive diagonal), for the
+    same frames; the daemon ends cleanly at the end of the source. This checks the service's wiring and
+    messages, not the estimator's accuracy: at 160×120 this sequence loses most frames in every mode
+    (`vifusion run` too), and the accuracy is the allocation test's and tests/bench's business."""
+    count = 15
+    imu_state = echo("rt/vifusion/imu_state", count, 60)
+    odometry = echo("rt/vifusion/odometry", count, 60)
+    status = echo("rt/vifusion/status", 0, 60)
+    service = daemon(f"{WORK}/rgbdi", "--mode", "rgbdi", realtime=False)
+    if imu_state.wait(65) != 0:
+        fail(f"echo received {len(imu_state.lines)} of {count} rt/vifusion/imu_state messages")
+    if odometry.wait(10) != 0:
+        fail(f"echo received {len(odometry.lines)} of {count} odometry messages")
+    check_odometry(odometry.lines)
+    code = service.wait(120)
+    status.process.terminate()
+    status.wait(10)
+    if code != 0:
+        fail(f"vifusiond --mode rgbdi exited with {code} at the end of the source")
+
+    imu_stamps = set()
+    for _, m in imu_state.lines:
+        if m["header"]["frame_id"] != "map":
+            fail(f"imu_state frame_id is {m['header']['frame_id']}, expected map (W)")
+        values = [*vector(m, "velocity"), *vector(m, "gyro_bias"), *vector(m, "accel_bias"),
+                  *vector(m, "gravity_direction")]
+        variances = [*m["velocity_covariance"], *m["gyro_bias_covariance"], *m["accel_bias_covariance"],
+                     *m["gravity_direction_covariance"]]
+        if not finite(values + variances):
+            fail(f"non-finite imu_state {m}")
+        if abs(math.hypot(*vector(m, "gravity_direction")) - 1.0) > 1e-9:
+            fail(f"gravity direction {vector(m, 'gravity_direction')} is not a unit vector")
+        # rgbdi estimates every part: nothing held (−1) and nothing certain (0), except the gravity
+        # direction's variance along gravity itself, which a rotation about gravity cannot change.
+        if min(variances[:9]) <= 0 or max(m["gravity_direction_covariance"]) <= 0:
+            fail(f"imu_state variances not positive: {variances}")
+        stamp = m["header"]["stamp"]
+        imu_stamps.add((stamp["sec"], stamp["nanosec"]))
+    first, last = imu_state.lines[0][1], imu_state.lines[-1][1]
+    def rounded(values):
+        return "[" + " ".join(f"{v:.4g}" for v in values) + "]"
+
+    print(f"imu_state: {len(imu_state.lines)} messages; last: velocity {rounded(vector(last, 'velocity'))} m/s, "
+          f"gyro bias {rounded(vector(last, 'gyro_bias'))} rad/s, accel bias {rounded(vector(last, 'accel_bias'))} "
+          f"m/s², gravity {rounded(vector(last, 'gravity_direction'))}; σ_v "
+          f"{rounded(math.sqrt(v) for v in last['velocity_covariance'])} m/s (first "
+          f"{rounded(math.sqrt(v) for v in first['velocity_covariance'])})", flush=True)
+
+    diagonals = []
+    matched = 0
+    for _, m in odometry.lines:
+        pose_cov, twist_cov = m["pose"]["covariance"], m["twist"]["covariance"]
+        if not finite(pose_cov + twist_cov):
+            fail("non-finite odometry covariance")
+        diagonal = [pose_cov[7 * i] for i in range(6)]
+        if min(diagonal) <= 0:
+            fail(f"odometry pose covariance diagonal not positive: {diagonal}")
+        if any(pose_cov[i] != 0 for i in range(36) if i % 7 != 0):
+            fail("odometry pose covariance has off-diagonal terms, but only marginal variances exist")
+        stamp = m["header"]["stamp"]
+        if (stamp["sec"], stamp["nanosec"]) in imu_stamps:
+            matched += 1
+            # An estimator frame: not the rgbd placeholder, and a linear twist covariance (rotated δv).
+            if diagonal == [1e-4] * 6:
+                fail("odometry of an estimator frame carries the rgbd placeholder covariance")
+            if min(twist_cov[7 * i] for i in range(3)) <= 0:
+                fail(f"odometry twist covariance (linear) not positive: {twist_cov}")
+        diagonals.append(diagonal)
+    if matched == 0:
+        fail("no odometry message has the stamp of an imu_state message")
+    def sigmas(variances):
+        return " ".join(f"{math.sqrt(v):.2e}" for v in variances)
+
+    last_twist = odometry.lines[-1][1]["twist"]["covariance"]
+    print(f"odometry: {len(diagonals)} messages, {matched} stamped like an imu_state; pose σ first "
+          f"[{sigmas(diagonals[0])}], last [{sigmas(diagonals[-1])}] [m, m, m, rad, rad, rad]; last twist "
+          f"σ_linear [{sigmas(last_twist[7 * i] for i in range(3))}] m/s", flush=True)
+    final = [m for _, m in status.lines]
+    if not final:
+        fail("no rt/vifusion/status")
+    last_status = max(final, key=lambda m: m["heartbeat"])
+    print(f"status at the end: {last_status['frames_processed']} frames, {last_status['lost_frames']} lost, "
+          f"{last_status['imu_issue_frames']} without IMU", flush=True)
+    if last_status["imu_issue_frames"] > 1:
+        fail(f"{last_status['imu_issue_frames']} frames had their IMU samples refused on a clean simulated stream")
+
+
+def imu_gap():
+    """A 0.5 s hole in the IMU stream (a driver that stalled): the frames in it are tracked RGB-D only,
+    counted in the status, logged at most once per 5 s, flagged by vifusion-health's IMU rule — and the
+    daemon runs to the end of the source with exit 0."""
+    data = f"{WORK}/imu_gap_data"
+    shutil.rmtree(data, ignore_errors=True)
+    os.makedirs(data)
+    for name in os.listdir(SIM):
+        if name in ("rgb", "depth"):
+            os.symlink(f"{SIM}/{name}", f"{data}/{name}")
+        elif name != "imu.csv":
+            shutil.copy(f"{SIM}/{name}", data)
+    removed = 0
+    with open(f"{SIM}/imu.csv") as source, open(f"{data}/imu.csv", "w") as target:
+        for line in source:
+            if not line.startswith("#") and 1.0e9 < int(line.split(",")[0]) < 1.5e9:
+                removed += 1
+                continue
+            target.write(line)
+    print(f"imu.csv without its {removed} samples in (1.0 s, 1.5 s)", flush=True)
+    log = f"{WORK}/imu_gap.log"
+    if os.path.exists(log):
+        os.remove(log)
+    monitor = health("--mode", "rgbdi")
+    diagnostics = echo("rt/diagnostics", 0, 60)
+    status = echo("rt/vifusion/status", 0, 60)
+    time.sleep(1.0)  # the readers and the monitor discover each other before the short run starts
+    service = start([f"{BIN}/vifusiond", "--source", f"dataset:{data}", "--out", f"{WORK}/imu_gap", "--mode", "rgbdi",
+                     "--realtime", "false", "--log_file", log, *DDS_ARGS])
+    code = service.wait(120)
+    time.sleep(1.0)  # the monitor judges the last status
+    for reader in (diagnostics, status):
+        reader.process.terminate()
+        reader.wait(10)
+    stop(monitor)
+    if code != 0:
+        fail(f"vifusiond exited with {code}: refused IMU samples must not be fatal")
+    statuses = [m for _, m in status.lines]
+    if not statuses:
+        fail("no rt/vifusion/status")
+    last = max(statuses, key=lambda m: m["heartbeat"])
+    with open(log) as f:
+        lines = [line.rstrip() for line in f if "IMU not used" in line]
+    print(f"status at the end: {last['frames_processed']} frames, {last['imu_issue_frames']} without IMU; "
+          f"{len(lines)} log line(s): {lines[:2]}", flush=True)
+    if last["imu_issue_frames"] < 5:
+        fail(f"only {last['imu_issue_frames']} frames counted without IMU across a 0.5 s gap (15 frames)")
+    if last["frames_processed"] != sum(1 for line in open(f"{SIM}/rgb.txt") if not line.startswith("#")):
+        fail("the daemon did not process every frame")
+    if not 1 <= len(lines) <= 2:
+        fail(f"{len(lines)} log lines about refused IMU samples in a run of a few seconds (at most 1 per 5 s)")
+    imu_levels = [s["level"] for _, m in diagnostics.lines for s in m["status"] if s["name"] == "vifusion: imu"]
+    print(f"vifusion-health IMU rule levels seen: {sorted(set(imu_levels))}", flush=True)
+    if 1 not in imu_levels:
+        fail("vifusion-health's IMU rule never warned while frames were tracked without IMU")
+
+
 main({"odometry": odometry_only, "odometry_health": odometry_health, "sigterm_sigkill": sigterm_sigkill,
-      "stall": stall}, CASE)
+      "stall": stall, "rgbdi": rgbdi, "imu_gap": imu_gap}, CASE)

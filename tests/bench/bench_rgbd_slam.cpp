@@ -19,18 +19,28 @@
 //       lost_frames, surfels (at the end), map_overflow, arena_bytes, ate_m (all frames);
 //       opencv_ms, opencv_ate_m, opencv_failed_frames, opencv_threads; ratio = ms_total/opencv_ms,
 //       ratio_odometry = (ms_preprocess + ms_tracking)/opencv_ms; goal_fps and goal_met (1/0).
-//   rgbd_slam_steps/living_room_0/WxH   the same frames through the preprocessing and map kernels
-//       one step per submission (each step's wall time includes a submit and a wait, ≈ 20 µs on
+//       cpu_ms_total: process CPU time per frame (lavapipe's threads included), for A/B runs on a
+//       shared machine, where wall time follows the other load.
+//   rgbd_slam_steps/living_room_0/WxH   the same frames through every kernel of the pipeline, one
+//       step per submission (each step's wall time includes a submit and a wait, ≈ 20 µs on
 //       lavapipe, so the steps add up to a little more than the fused per-frame sequences), fused at
 //       the ground-truth poses: ms_upload, ms_pre_<step>, ms_fusion_<step>, ms_map_cleanup,
-//       ms_map_compaction, ms_map_prediction. Tracking has no per-kernel split here: see
-//       ms_per_gn_iteration above.
+//       ms_map_compaction, ms_map_prediction, ms_reference_copy, ms_reference_gradients, and the
+//       tracking terms per level summed over the frame's Gauss-Newton iterations
+//       (ms_track_{icp,photometric}_l<l>, gn_iterations_l<l>); each with its CPU time (cpu_<name>).
+//       The native-loop comparison (native_loops.hpp): one level-0 evaluation of each term at the
+//       frame's final pose on the GPU (gpu_<term>_l0_ms) and as a plain C++ loop over read-back
+//       copies of the same buffers on 1 and 2 threads (native_<term>_l0_ms_{1t,2t}), medians of 3;
+//       ratio_<term>_l0_{1t,2t} = GPU / native wall time, ratio_cpu_<term>_l0 = GPU CPU time /
+//       native 1-thread CPU time; native_<term>_l0_inliers_vs_gpu checks that both did the same work.
 
 #include <benchmark/benchmark.h>
 #include <spawn.h>
+#include <time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -63,6 +73,9 @@
 #include "vifusion/map/surfel_fusion.hpp"
 #include "vifusion/preprocess/preprocess_stage.hpp"
 #include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/tracking/icp_term.hpp"
+#include "vifusion/tracking/photometric_term.hpp"
+#include "native_loops.hpp"
 
 extern char** environ;
 
@@ -103,6 +116,14 @@ gpu::GpuContext& context() {
 
 double msSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// CPU time of this process (every thread: ours and lavapipe's workers) [ms]. On a shared machine
+/// wall time grows with the other load; CPU time much less, so A/B comparisons use both.
+double processCpuMs() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
 }
 
 /// With --trajectory_dir, writes `trajectory` as <dir>/<name>.txt (TUM) for `vifusion eval --plots`.
@@ -289,8 +310,11 @@ void rgbdSlam(benchmark::State& state, Size size) {
   int lost = 0;
   slam::FrameResult last;
   std::size_t next = 1;
+  double cpu_ms = 0.0;
   for (auto _ : state) {
+    const double cpu_start = processCpuMs();
     last = pipeline.process(sequence.frames[next++]);
+    cpu_ms += processCpuMs() - cpu_start;
     trajectory.push_back({last.t_ns, last.T_W_C});
     preprocess_ms += last.preprocess_ms;
     tracking_ms += last.tracking_ms;
@@ -308,6 +332,7 @@ void rgbdSlam(benchmark::State& state, Size size) {
   c["ms_mapping"] = mapping_ms / timed;
   c["ms_total"] = ms_total;
   c["fps"] = 1000.0 / ms_total;
+  c["cpu_ms_total"] = cpu_ms / timed;
   c["gn_iterations"] = iterations / timed;
   c["ms_per_gn_iteration"] = iterations > 0.0 ? tracking_ms / iterations : 0.0;
   c["lost_frames"] = lost;
@@ -330,14 +355,17 @@ void rgbdSlam(benchmark::State& state, Size size) {
   state.SetLabel(context().features().device_name);
 }
 
-/// The preprocessing and map kernels of RgbdSlam built on their own, each step in its own command
-/// sequence (per surfel-array parity where it matters), in RgbdSlam's order: upload, preprocess
-/// steps, fusion steps, cleanup, compaction, flip, prediction. Poses are the ground truth relative
-/// to the first frame, so the map grows as in a well-tracked run. The tracker's copies of the
-/// predicted maps and its reference gradients are not part of this.
+/// The kernels of RgbdSlam built on their own, each step in its own command sequence (per
+/// surfel-array parity where it matters), in RgbdSlam's order: upload, preprocess steps, tracking
+/// (each dense term at each level in its own submission), fusion steps, cleanup, compaction, flip,
+/// prediction, the copies of the prediction into the tracker's reference view and the reference's
+/// intensity pyramid and gradients. Fusion uses the ground-truth poses (relative to the first
+/// frame), so the map grows as in a well-tracked run; tracking runs DenseTracker's Gauss-Newton loop
+/// from the constant-velocity guess of those poses, so its iterations per level are realistic.
 struct StepPipeline {
   gpu::CapacityPlan plan;
-  std::unique_ptr<preprocess::PreprocessStage> stage;
+  slam::TrackerOptions tracker_options;
+  std::unique_ptr<slam::DenseTracker> tracker;
   std::unique_ptr<map::MapBuffers> map;
   std::unique_ptr<map::SurfelFusion> fusion;
   std::unique_ptr<map::MapMaintenance> maintenance;
@@ -346,31 +374,83 @@ struct StepPipeline {
   std::vector<std::unique_ptr<gpu::CommandSequence>> preprocess_steps;
   std::array<std::vector<std::unique_ptr<gpu::CommandSequence>>, 2> fusion_steps;
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> cleanup, compaction, predict;
+  std::unique_ptr<gpu::CommandSequence> reference_copy, reference_gradients;
 
-  StepPipeline(const RigCalibration& calibration, const slam::SlamOptions& options) {
+  /// The tracker's terms are private, so each term is built again in a plan of its own (buffer
+  /// names are unique per plan) over device-local copies of the tracker's current and reference
+  /// maps, refreshed before each frame's tracking (untimed): the same kernels on the same data.
+  struct Terms {
+    gpu::CapacityPlan plan;
+    std::vector<tracking::IcpLevelInputs> icp_inputs;
+    std::vector<tracking::PhotometricLevelInputs> photometric_inputs;
+    std::vector<std::pair<gpu::BufferId, gpu::BufferId>> copies;  ///< tracker arena → this arena
+    std::unique_ptr<tracking::IcpTerm> icp;
+    std::unique_ptr<tracking::PhotometricTerm> photometric;
+    std::unique_ptr<gpu::MemoryArena> arena;
+    std::unique_ptr<gpu::CommandSequence> refresh, level0_readback;
+    std::vector<std::unique_ptr<gpu::CommandSequence>> icp_levels, photometric_levels;
+    /// Readback copies of the level-0 inputs, which the native loops read.
+    gpu::BufferId cur_vertices, cur_normals, cur_intensity, ref_vertices, ref_normals, ref_intensity, ref_gradients;
+  } terms;
+
+  StepPipeline(const RigCalibration& calibration, const slam::SlamOptions& options) : tracker_options(options.tracker) {
     gpu::GpuContext& ctx = context();
     const PinholeCamera& camera = calibration.camera;
-    preprocess::PreprocessOptions preprocess_options = options.tracker.preprocess;  // as DenseTracker sets it
-    preprocess_options.camera = camera;
-    preprocess_options.levels = options.tracker.levels;
-    preprocess_options.metric.depth_scale_m = static_cast<float>(calibration.depth_scale_m);
-    stage = std::make_unique<preprocess::PreprocessStage>(ctx, plan, preprocess_options);
+    tracker = std::make_unique<slam::DenseTracker>(ctx, plan, camera, calibration.depth_scale_m, tracker_options);
+    const preprocess::PreprocessStage& stage = tracker->preprocessing();
+    const int levels = tracker_options.levels;
     map = std::make_unique<map::MapBuffers>(plan, options.map, camera);
     fusion = std::make_unique<map::SurfelFusion>(ctx, plan, *map, camera, options.fusion);
     maintenance = std::make_unique<map::MapMaintenance>(ctx, plan, *map, camera, options.maintenance);
     map::PredictionOptions prediction_options = options.prediction;
-    prediction_options.levels = options.tracker.levels;
+    prediction_options.levels = levels;
     prediction = std::make_unique<map::ModelPrediction>(ctx, plan, *map, camera, prediction_options);
+
+    Terms& t = terms;
+    const auto mirror = [&](gpu::BufferId source, gpu::MemoryUse use, const char* suffix) {
+      const gpu::BufferRequest& request = plan.buffers()[source.index];
+      const gpu::BufferId copy = t.plan.addBuffer(request.name + suffix, request.bytes, use);
+      if (use == gpu::MemoryUse::DeviceLocal) t.copies.push_back({source, copy});
+      return copy;
+    };
+    const auto device = gpu::MemoryUse::DeviceLocal;
+    for (int l = 0; l < levels; ++l) {
+      const preprocess::LevelBuffers& cur = stage.level(l);
+      const preprocess::LevelBuffers& ref = tracker->reference(l);
+      const gpu::BufferId cur_vertices = mirror(cur.vertices, device, ".bench");
+      const gpu::BufferId ref_vertices = mirror(ref.vertices, device, ".bench");
+      t.icp_inputs.push_back({cur_vertices, mirror(cur.normals, device, ".bench"), ref_vertices,
+                              mirror(ref.normals, device, ".bench")});
+      t.photometric_inputs.push_back({cur_vertices, mirror(cur.intensity, device, ".bench"),
+                                      mirror(ref.intensity, device, ".bench"), mirror(ref.gradients, device, ".bench"),
+                                      ref_vertices});
+    }
+    const auto readback = gpu::MemoryUse::Readback;
+    const preprocess::LevelBuffers& cur0 = stage.level(0);
+    const preprocess::LevelBuffers& ref0 = tracker->reference(0);
+    t.cur_vertices = mirror(cur0.vertices, readback, ".readback");
+    t.cur_normals = mirror(cur0.normals, readback, ".readback");
+    t.cur_intensity = mirror(cur0.intensity, readback, ".readback");
+    t.ref_vertices = mirror(ref0.vertices, readback, ".readback");
+    t.ref_normals = mirror(ref0.normals, readback, ".readback");
+    t.ref_intensity = mirror(ref0.intensity, readback, ".readback");
+    t.ref_gradients = mirror(ref0.gradients, readback, ".readback");
+    t.icp = std::make_unique<tracking::IcpTerm>(ctx, t.plan, levels, tracker_options.icp);
+    t.photometric = std::make_unique<tracking::PhotometricTerm>(ctx, t.plan, levels, tracker_options.photometric);
+
     arena = gpu::MemoryArena::create(ctx, plan);
-    stage->build(*arena);
-    fusion->build(*arena, map::FusionInputs::fromPreprocess(*stage));
+    tracker->build(*arena);
+    fusion->build(*arena, map::FusionInputs::fromPreprocess(stage));
     maintenance->build(*arena);
     prediction->build(*arena);
     map->reset(*arena);
+    t.arena = gpu::MemoryArena::create(ctx, t.plan);
+    t.icp->build(*t.arena, t.icp_inputs);
+    t.photometric->build(*t.arena, t.photometric_inputs);
 
     for (const preprocess::PreprocessStep step : preprocess::kAllPreprocessSteps) {
       preprocess_steps.push_back(gpu::CommandSequence::create(ctx, std::string("bench.pre.") + preprocess::preprocessStepName(step)));
-      preprocess_steps.back()->record([&](gpu::CommandRecorder& recorder) { stage->recordStep(recorder, step); });
+      preprocess_steps.back()->record([&](gpu::CommandRecorder& recorder) { stage.recordStep(recorder, step); });
     }
     for (int parity = 0; parity < 2; ++parity) {
       for (const map::FusionStep step : map::kAllFusionSteps) {
@@ -393,17 +473,81 @@ struct StepPipeline {
         recorder.hostReadBarrier();
       });
     }
+    // As RgbdSlam::recordMapUpdate: predicted maps → reference view, then its intensity pyramid and gradients.
+    reference_copy = gpu::CommandSequence::create(ctx, "bench.reference_copy");
+    reference_copy->record([&](gpu::CommandRecorder& recorder) {
+      for (int l = 0; l < levels; ++l) {
+        const map::ModelLevelBuffers& model = prediction->level(l);
+        const preprocess::LevelBuffers& reference = tracker->reference(l);
+        for (auto [from, to] : {std::pair{model.vertices, reference.vertices}, std::pair{model.normals, reference.normals}}) {
+          recorder.copyBuffer(arena->buffer(from), arena->buffer(to), arena->buffer(from).bytes);
+        }
+      }
+      const gpu::GpuBuffer& model_intensity = arena->buffer(prediction->level(0).intensity);
+      recorder.copyBuffer(model_intensity, arena->buffer(tracker->reference(0).intensity), model_intensity.bytes);
+      recorder.hostReadBarrier();
+    });
+    reference_gradients = gpu::CommandSequence::create(ctx, "bench.reference_gradients");
+    reference_gradients->record([&](gpu::CommandRecorder& recorder) {
+      tracker->recordReferenceIntensity(recorder);
+      recorder.hostReadBarrier();
+    });
+
+    for (int l = 0; l < levels; ++l) {
+      t.icp_levels.push_back(gpu::CommandSequence::create(ctx, "bench.icp.l" + std::to_string(l)));
+      t.icp_levels.back()->record([&](gpu::CommandRecorder& recorder) { t.icp->record(recorder, l); });
+      t.photometric_levels.push_back(gpu::CommandSequence::create(ctx, "bench.photometric.l" + std::to_string(l)));
+      t.photometric_levels.back()->record([&](gpu::CommandRecorder& recorder) { t.photometric->record(recorder, l); });
+    }
+    t.refresh = gpu::CommandSequence::create(ctx, "bench.terms_refresh");
+    t.refresh->record([&](gpu::CommandRecorder& recorder) {
+      for (auto [from, to] : t.copies) recorder.copyBuffer(arena->buffer(from), t.arena->buffer(to), arena->buffer(from).bytes);
+      recorder.computeBarrier();
+    });
+    t.level0_readback = gpu::CommandSequence::create(ctx, "bench.level0_readback");
+    t.level0_readback->record([&](gpu::CommandRecorder& recorder) {
+      const tracking::IcpLevelInputs& icp0 = t.icp_inputs[0];
+      const tracking::PhotometricLevelInputs& photometric0 = t.photometric_inputs[0];
+      for (auto [from, to] : {std::pair{icp0.current_vertices, t.cur_vertices}, std::pair{icp0.current_normals, t.cur_normals},
+                              std::pair{photometric0.current_intensity, t.cur_intensity},
+                              std::pair{icp0.model_vertices, t.ref_vertices}, std::pair{icp0.model_normals, t.ref_normals},
+                              std::pair{photometric0.reference_intensity, t.ref_intensity},
+                              std::pair{photometric0.reference_gradients, t.ref_gradients}}) {
+        recorder.copyBuffer(t.arena->buffer(from), t.arena->buffer(to), t.arena->buffer(from).bytes);
+      }
+      recorder.hostReadBarrier();
+    });
+  }
+
+  template <typename T>
+  const T* host(gpu::BufferId id) const {
+    return terms.arena->buffer(id).hostSpan<const T>().data();
   }
 };
 
-/// Accumulates the wall time of each named step.
+/// A wall time and the process CPU time spent meanwhile [ms].
+struct Timing {
+  double wall_ms = 0.0;
+  double cpu_ms = 0.0;
+};
+
+/// Accumulates the wall time of each named step ("ms_<step>") and the CPU time the process spent
+/// in it, lavapipe's worker threads included ("cpu_ms_<step>"; up to 2× the wall time on 2 cores).
 class StepTimes {
  public:
   template <class Fn>
   void time(const std::string& name, Fn&& fn) {
+    const double cpu_start = processCpuMs();
     const auto start = std::chrono::steady_clock::now();
     fn();
     totals_[name] += msSince(start);
+    totals_["cpu_" + name] += processCpuMs() - cpu_start;
+  }
+  void add(const std::string& name, double value) { totals_[name] += value; }
+  /// `name` and "cpu_<name>" from a Timing.
+  void add(const std::string& name, const Timing& timing) {
+    totals_[name] += timing.wall_ms;
+    totals_["cpu_" + name] += timing.cpu_ms;
   }
   const std::map<std::string, double>& totals() const { return totals_; }
 
@@ -411,25 +555,123 @@ class StepTimes {
   std::map<std::string, double> totals_;
 };
 
+/// Median wall time and median process CPU time of `repeats` calls of fn [ms].
+template <class Fn>
+Timing medianMs(int repeats, Fn&& fn) {
+  std::vector<double> wall, cpu;
+  for (int r = 0; r < repeats; ++r) {
+    const double cpu_start = processCpuMs();
+    const auto start = std::chrono::steady_clock::now();
+    fn();
+    wall.push_back(msSince(start));
+    cpu.push_back(processCpuMs() - cpu_start);
+  }
+  const auto median = [](std::vector<double>& v) {
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+  };
+  return {median(wall), median(cpu)};
+}
+
+/// DenseTracker::track's Gauss-Newton loop with each term's submission timed on its own
+/// (ms_track_<term>_l<level>, summed over the frame's iterations; gn_iterations_l<level>).
+/// Returns T_ref_cur.
+SE3d trackTimed(StepPipeline& p, const SE3d& guess, StepTimes& t) {
+  const slam::TrackerOptions& o = p.tracker_options;
+  SE3d T_ref_cur = guess;
+  for (int l = o.levels - 1; l >= 0; --l) {
+    const std::string level = "_l" + std::to_string(l);
+    const PinholeCamera& camera = p.tracker->camera(l);
+    for (int i = 0; i < o.iterations[l]; ++i) {
+      p.terms.icp->setPose(l, T_ref_cur, camera);
+      t.time("ms_track_icp" + level, [&] { p.terms.icp_levels[l]->run(); });
+      NormalEquations6 system = p.terms.icp->result(l);
+      if (o.use_photometric) {
+        p.terms.photometric->setPose(l, T_ref_cur, camera);
+        t.time("ms_track_photometric" + level, [&] { p.terms.photometric_levels[l]->run(); });
+        system += p.terms.photometric->result(l);
+      }
+      t.add("gn_iterations" + level, 1.0);
+      const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(system.H);
+      if (ldlt.info() != Eigen::Success || system.inliers < 6.0) return T_ref_cur;
+      const Vector6d delta = ldlt.solve(-system.b);
+      if (!delta.allFinite()) return T_ref_cur;
+      T_ref_cur = SE3d::exp(delta) * T_ref_cur;
+      if (delta.head<3>().norm() < o.converged_step && delta.tail<3>().norm() < o.converged_step) break;
+    }
+  }
+  return T_ref_cur;
+}
+
+/// One level-0 evaluation of each dense term at T_ref_cur on the GPU and as native loops on 1 and 2
+/// threads over read-back copies of the same buffers (medians of 3), and the natives' inlier count
+/// relative to the GPU's (1 = the same work).
+void compareNative(StepPipeline& p, const SE3d& T_ref_cur, StepTimes& t) {
+  const PinholeCamera& camera = p.tracker->camera(0);
+  const int pixels = camera.width * camera.height;
+  p.terms.level0_readback->run();
+  using preprocess::GradientPixel;
+  using preprocess::NormalPixel;
+  using preprocess::VertexPixel;
+
+  p.terms.icp->setPose(0, T_ref_cur, camera);
+  t.add("gpu_icp_l0_ms", medianMs(3, [&] { p.terms.icp_levels[0]->run(); }));
+  const NormalEquations6 gpu_icp = p.terms.icp->result(0);
+  const tracking::IcpParams icp_params = tracking::IcpParams::make(T_ref_cur, camera, p.tracker_options.icp);
+  const auto icp_loop = [&](int begin, int end, bench::NativeSums& sums) {
+    bench::icpNative(p.host<VertexPixel>(p.terms.cur_vertices), p.host<NormalPixel>(p.terms.cur_normals),
+                     p.host<VertexPixel>(p.terms.ref_vertices), p.host<NormalPixel>(p.terms.ref_normals), icp_params, begin, end, sums);
+  };
+  bench::NativeSums native{};
+  t.add("native_icp_l0_ms_1t", medianMs(3, [&] { native = bench::runSplit(pixels, 1, icp_loop); }));
+  t.add("native_icp_l0_ms_2t", medianMs(3, [&] { native = bench::runSplit(pixels, 2, icp_loop); }));
+  t.add("native_icp_l0_inliers_vs_gpu", gpu_icp.inliers > 0.0 ? native[28] / gpu_icp.inliers : 0.0);
+
+  if (!p.tracker_options.use_photometric) return;
+  p.terms.photometric->setPose(0, T_ref_cur, camera);
+  t.add("gpu_photometric_l0_ms", medianMs(3, [&] { p.terms.photometric_levels[0]->run(); }));
+  const NormalEquations6 gpu_photometric = p.terms.photometric->result(0);
+  const tracking::PhotometricParams photometric_params =
+      tracking::PhotometricParams::make(T_ref_cur, camera, p.tracker_options.photometric);
+  const auto photometric_loop = [&](int begin, int end, bench::NativeSums& sums) {
+    bench::photometricNative(p.host<VertexPixel>(p.terms.cur_vertices), p.host<float>(p.terms.cur_intensity),
+                             p.host<float>(p.terms.ref_intensity), p.host<GradientPixel>(p.terms.ref_gradients),
+                             p.host<VertexPixel>(p.terms.ref_vertices), photometric_params, begin, end, sums);
+  };
+  t.add("native_photometric_l0_ms_1t", medianMs(3, [&] { native = bench::runSplit(pixels, 1, photometric_loop); }));
+  t.add("native_photometric_l0_ms_2t", medianMs(3, [&] { native = bench::runSplit(pixels, 2, photometric_loop); }));
+  t.add("native_photometric_l0_inliers_vs_gpu", gpu_photometric.inliers > 0.0 ? native[28] / gpu_photometric.inliers : 0.0);
+}
+
 void rgbdSlamSteps(benchmark::State& state, Size size) {
   const Sequence& sequence = sequenceFor(size);
-  StepPipeline p(sequence.calibration, slam::SlamOptions{});
+  slam::SlamOptions slam_options;
+  slam_options.tracker.use_photometric = options().photometric;
+  StepPipeline p(sequence.calibration, slam_options);
+  const preprocess::PreprocessStage& stage = p.tracker->preprocessing();
   const SE3d T_C0_world = sequence.ground_truth.front().T_world_body.inverse();
+  const auto T_W_C_at = [&](std::size_t i) { return T_C0_world * sequence.ground_truth[i].T_world_body; };
   StepTimes times;
   std::size_t next = 0;
   const auto frame = [&](bool timed) {
     const RgbdFrame& rgbd = sequence.frames[next];
-    const SE3d T_W_C = T_C0_world * sequence.ground_truth[next].T_world_body;
+    const SE3d T_W_C = T_W_C_at(next);
     const SE3d T_C_W = T_W_C.inverse();
     const auto frame_index = static_cast<std::uint32_t>(next);
-    ++next;
     StepTimes warm_up;
     StepTimes& t = timed ? times : warm_up;
-    t.time("ms_upload", [&] { p.stage->upload(rgbd.depth.view(), rgbd.rgb.view()); });
+    t.time("ms_upload", [&] { stage.upload(rgbd.depth.view(), rgbd.rgb.view()); });
     for (std::size_t s = 0; s < p.preprocess_steps.size(); ++s) {
       t.time(std::string("ms_pre_") + preprocess::preprocessStepName(preprocess::kAllPreprocessSteps[s]),
              [&] { p.preprocess_steps[s]->run(); });
     }
+    if (next > 0) {  // the reference view is the prediction at the previous frame's pose
+      const SE3d guess = next > 1 ? T_W_C_at(next - 2).inverse() * T_W_C_at(next - 1) : SE3d();
+      p.terms.refresh->run();
+      const SE3d T_ref_cur = trackTimed(p, guess, t);
+      if (timed) compareNative(p, T_ref_cur, t);
+    }
+    ++next;
     const int parity = p.map->current();
     p.fusion->setFrame(T_W_C, frame_index);
     p.maintenance->setView(T_C_W, frame_index);
@@ -441,12 +683,27 @@ void rgbdSlamSteps(benchmark::State& state, Size size) {
     t.time("ms_map_compaction", [&] { p.compaction[parity]->run(); });
     p.map->flip();
     t.time("ms_map_prediction", [&] { p.predict[parity ^ 1]->run(); });
+    t.time("ms_reference_copy", [&] { p.reference_copy->run(); });
+    t.time("ms_reference_gradients", [&] { p.reference_gradients->run(); });
   };
   frame(false);  // as in rgbd_slam: frame 0 is the warm-up
   for (auto _ : state) frame(true);
   const double timed = static_cast<double>(next - 1);
-  for (const auto& [name, total_ms] : times.totals()) state.counters[name] = total_ms / timed;
-  state.counters["surfels"] = p.map->readState(*p.arena).surfel_count;
+  for (const auto& [name, total] : times.totals()) state.counters[name] = total / timed;
+  // Per-evaluation costs of the terms and their ratios to the native loops (same pose, same buffers).
+  auto& c = state.counters;
+  for (const char* term : {"icp", "photometric"}) {
+    const std::string gpu = std::string("gpu_") + term + "_l0_ms";
+    if (c.find(gpu) == c.end()) continue;
+    for (const char* threads : {"1t", "2t"}) {
+      const std::string native = std::string("native_") + term + "_l0_ms_" + threads;
+      c[std::string("ratio_") + term + "_l0_" + threads] = double(c[gpu]) / double(c[native]);
+    }
+    // The same work in CPU time: robust to other load on a shared machine (wall time is not).
+    c[std::string("ratio_cpu_") + term + "_l0"] =
+        double(c["cpu_" + gpu]) / double(c[std::string("cpu_native_") + term + "_l0_ms_1t"]);
+  }
+  c["surfels"] = p.map->readState(*p.arena).surfel_count;
   state.SetLabel(context().features().device_name);
 }
 

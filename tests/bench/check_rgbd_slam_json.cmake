@@ -8,8 +8,11 @@ file(READ "${JSON}" text)
 string(JSON count LENGTH "${text}" benchmarks)
 
 set(slam_counters ms_preprocess ms_tracking ms_mapping ms_total fps surfels arena_bytes ate_m lost_frames
-                  gn_iterations opencv_ms opencv_ate_m ratio ratio_odometry)
-set(step_counters ms_upload ms_pre_bilateral ms_fusion_index ms_fusion_fuse ms_map_compaction ms_map_prediction)
+                  gn_iterations opencv_ms opencv_ate_m ratio ratio_odometry cpu_ms_total)
+set(step_counters ms_upload ms_pre_bilateral ms_fusion_index ms_fusion_fuse ms_map_compaction ms_map_prediction
+                  cpu_ms_map_prediction ms_track_icp_l0 ms_track_photometric_l0 gn_iterations_l0 ms_reference_gradients
+                  gpu_icp_l0_ms native_icp_l0_ms_1t native_icp_l0_ms_2t ratio_icp_l0_1t ratio_icp_l0_2t ratio_cpu_icp_l0
+                  gpu_photometric_l0_ms native_photometric_l0_ms_1t ratio_photometric_l0_2t ratio_cpu_photometric_l0)
 set(found_slam FALSE)
 set(found_steps FALSE)
 math(EXPR last "${count} - 1")
@@ -30,6 +33,15 @@ foreach(i RANGE ${last})
       message(FATAL_ERROR "${name}: counter ${counter} missing or not a non-negative number ('${value}')")
     endif()
   endforeach()
+  if(name MATCHES "^rgbd_slam_steps/")
+    # The native loops must do the kernels' work: the same inliers, up to float rounding at the gates.
+    foreach(term IN ITEMS icp photometric)
+      string(JSON value GET "${text}" benchmarks ${i} native_${term}_l0_inliers_vs_gpu)
+      if(value LESS 0.99 OR value GREATER 1.01)
+        message(FATAL_ERROR "${name}: the native ${term} loop found ${value} × the GPU's inliers")
+      endif()
+    endforeach()
+  endif()
   if(name MATCHES "^rgbd_slam/")
     string(JSON lost GET "${text}" benchmarks ${i} lost_frames)
     string(JSON surfels GET "${text}" benchmarks ${i} surfels)

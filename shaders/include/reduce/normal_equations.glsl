@@ -24,25 +24,60 @@
 #define NE_TERMS 30
 #define NE_STRIDE 32
 
+// Every access to the accumulator uses a constant index, written out term by term (NE_FOR_EACH_TERM
+// and neAccumulate) instead of loops over k: one loop whose index the compiler keeps dynamic makes
+// the whole array indirectly addressed, and lavapipe (Mesa 22.3) then reads and writes it lane by
+// lane through memory on every row. Measured at 640×480: ICP 25 → 12.5 CPU-ms per evaluation,
+// photometric 26 → 12.7 ([[unroll]] hints alone did not help).
+#define NE_FOR_EACH_TERM(X)                                                                              \
+  X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9) X(10) X(11) X(12) X(13) X(14) X(15) X(16) X(17) X(18) \
+  X(19) X(20) X(21) X(22) X(23) X(24) X(25) X(26) X(27) X(28) X(29)
+
 #if VIFUSION_SUBGROUP_REDUCE
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #endif
 
 void neClear(out float acc[NE_TERMS]) {
-  for (int k = 0; k < NE_TERMS; ++k) acc[k] = 0.0;
+#define NE_CLEAR_TERM(k) acc[k] = 0.0;
+  NE_FOR_EACH_TERM(NE_CLEAR_TERM)
+#undef NE_CLEAR_TERM
 }
 
 void neCountCandidate(inout float acc[NE_TERMS]) { acc[29] += 1.0; }
 
 void neAccumulate(inout float acc[NE_TERMS], float J[6], float r, float w) {
   if (!(w > 0.0)) return;
-  int k = 0;
-  for (int i = 0; i < 6; ++i) {
-    const float wJi = w * J[i];
-    for (int j = i; j < 6; ++j) acc[k++] += wJi * J[j];
-    acc[21 + i] += wJi * r;
-  }
+  // Row i of the upper triangle is w·J[i]·J[j] for j ≥ i, then w·J[i]·r (same products, same order
+  // as the CPU reference's loops).
+  const float wJ0 = w * J[0], wJ1 = w * J[1], wJ2 = w * J[2], wJ3 = w * J[3], wJ4 = w * J[4], wJ5 = w * J[5];
+  acc[0] += wJ0 * J[0];
+  acc[1] += wJ0 * J[1];
+  acc[2] += wJ0 * J[2];
+  acc[3] += wJ0 * J[3];
+  acc[4] += wJ0 * J[4];
+  acc[5] += wJ0 * J[5];
+  acc[6] += wJ1 * J[1];
+  acc[7] += wJ1 * J[2];
+  acc[8] += wJ1 * J[3];
+  acc[9] += wJ1 * J[4];
+  acc[10] += wJ1 * J[5];
+  acc[11] += wJ2 * J[2];
+  acc[12] += wJ2 * J[3];
+  acc[13] += wJ2 * J[4];
+  acc[14] += wJ2 * J[5];
+  acc[15] += wJ3 * J[3];
+  acc[16] += wJ3 * J[4];
+  acc[17] += wJ3 * J[5];
+  acc[18] += wJ4 * J[4];
+  acc[19] += wJ4 * J[5];
+  acc[20] += wJ5 * J[5];
+  acc[21] += wJ0 * r;
+  acc[22] += wJ1 * r;
+  acc[23] += wJ2 * r;
+  acc[24] += wJ3 * r;
+  acc[25] += wJ4 * r;
+  acc[26] += wJ5 * r;
   acc[27] += w * r * r;
   acc[28] += 1.0;
 }
@@ -52,10 +87,13 @@ void neAccumulate(inout float acc[NE_TERMS], float J[6], float r, float w) {
 shared float ne_subgroup_sums[gl_WorkGroupSize.x][NE_TERMS];
 
 void neReduceAndStore(float acc[NE_TERMS]) {
-  for (int k = 0; k < NE_TERMS; ++k) {
-    const float sum = subgroupAdd(acc[k]);
-    if (subgroupElect()) ne_subgroup_sums[gl_SubgroupID][k] = sum;
+#define NE_SUBGROUP_SUM(k)                                          \
+  {                                                                 \
+    const float sum = subgroupAdd(acc[k]);                          \
+    if (subgroupElect()) ne_subgroup_sums[gl_SubgroupID][k] = sum;  \
   }
+  NE_FOR_EACH_TERM(NE_SUBGROUP_SUM)
+#undef NE_SUBGROUP_SUM
   barrier();
   // Invocation k adds term k across subgroups.
   const uint k = gl_LocalInvocationIndex;
@@ -71,7 +109,9 @@ shared float ne_invocation_sums[gl_WorkGroupSize.x][NE_TERMS];
 
 void neReduceAndStore(float acc[NE_TERMS]) {
   const uint i = gl_LocalInvocationIndex;
-  for (int k = 0; k < NE_TERMS; ++k) ne_invocation_sums[i][k] = acc[k];
+#define NE_STORE_TERM(k) ne_invocation_sums[i][k] = acc[k];
+  NE_FOR_EACH_TERM(NE_STORE_TERM)
+#undef NE_STORE_TERM
   barrier();
   for (uint live = gl_WorkGroupSize.x; live > 1;) {
     const uint kept = (live + 1) / 2;

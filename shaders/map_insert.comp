@@ -1,13 +1,17 @@
 #version 450
 // map_insert: new surfels from the pixels map_associate marked kPixelNewSurfel, appended in pixel
-// order (row-major) behind the existing surfels. A two-pass prefix sum instead of an atomic counter
-// makes the order deterministic: the same frames always give byte-identical surfel arrays.
-//   pass 0 (one invocation per pixel):  group_counts[g] = candidates in workgroup g
-//   pass 1 (ONE workgroup):             group_counts[g] → surfel_count + candidates before group g
-//                                       (in place); surfel_count += candidates, clamped to capacity;
-//                                       overflow_count += candidates that did not fit; frame = frame
-//   pass 2 (one invocation per pixel):  candidate k of workgroup g becomes surfel group_counts[g] + k,
-//                                       written only when that index is < capacity
+// order (row-major) behind the existing surfels. A two-level prefix sum instead of an atomic counter
+// makes the order deterministic: the same frames always give byte-identical surfel arrays. The
+// pixels are cut into kRuns runs of consecutive pixels, one invocation per run:
+//   pass 0 (one invocation per run):  run_counts[r] = candidates in run r
+//   pass 1 (ONE workgroup):           run_counts[r] → surfel_count + candidates before run r (in
+//                                     place); surfel_count += candidates, clamped to capacity;
+//                                     overflow_count += candidates that did not fit; frame = frame
+//   pass 2 (one invocation per run):  the k-th candidate of run r becomes surfel run_counts[r] + k,
+//                                     written only when that index is < capacity
+// Runs rather than one pixel per invocation with a workgroup scan: passes 0 and 2 then need no
+// shared memory and no barrier, and on lavapipe every barrier suspends and resumes each 8-wide slice
+// of the workgroup (measured: the workgroup scans were 44 of 434 CPU-ms of a 640×480 frame).
 // A full map stops growing: the candidates beyond capacity are counted, never written (freeing
 // space is cleanup's job).
 //
@@ -20,14 +24,16 @@
 //   2  rgb_words     readonly  uint[]     packed RGB888
 //   3  params        readonly  FusionParams
 //   4  pixel_match   readonly  uint[w·h]
-//   5  group_counts            uint[ceil(w·h / workgroup size)]
+//   5  run_counts              uint[kRuns]
 //   6  state                   MapState
 //   7  surfels                 Surfel[capacity]  current surfel array
-// Push constants: uint pass (0, 1, 2). CPU reference: vifusion::map::insertCpu.
+// Push constants: uint pass (0, 1, 2). Specialization: 0 = workgroup size, 3 = kRuns (a multiple of
+// the workgroup size). CPU reference: vifusion::map::insertCpu.
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 256) in;
 layout(local_size_x_id = 0) in;
+layout(constant_id = 3) const uint kRuns = 4096;
 
 #include "map/fusion_params.glsl"
 #include "map/map_state.glsl"
@@ -41,7 +47,7 @@ layout(std430, binding = 1) restrict readonly buffer Normals { vec4 normals[]; }
 layout(std430, binding = 2) restrict readonly buffer Rgb { uint rgb_words[]; };
 layout(std430, binding = 3) restrict readonly buffer Params { FusionParams params; };
 layout(std430, binding = 4) restrict readonly buffer PixelMatch { uint pixel_match[]; };
-layout(std430, binding = 5) restrict buffer GroupCounts { uint group_counts[]; };
+layout(std430, binding = 5) restrict buffer RunCounts { uint run_counts[]; };
 layout(std430, binding = 6) restrict buffer State { MapState state; };
 layout(std430, binding = 7) restrict writeonly buffer Surfels { Surfel surfels[]; };
 
@@ -76,31 +82,33 @@ Surfel newSurfel(uint i) {
   return s;
 }
 
-void countCandidates() {
-  const uint i = gl_GlobalInvocationID.x;
+// Pixels [first, last) of this invocation's run.
+uvec2 runOfInvocation() {
   const uint pixels = uint(params.width * params.height);
-  // A sum needs no scan: the shared atomic gives the same total in any order, with two barriers.
-  if (gl_LocalInvocationID.x == 0u) scan_values[0] = 0u;
-  barrier();
-  if (i < pixels && pixel_match[i] == kPixelNewSurfel) atomicAdd(scan_values[0], 1u);
-  barrier();
-  if (gl_LocalInvocationID.x == 0u) group_counts[gl_WorkGroupID.x] = scan_values[0];
+  const uint length = (pixels + kRuns - 1u) / kRuns;
+  const uint first = min(gl_GlobalInvocationID.x * length, pixels);
+  return uvec2(first, min(first + length, pixels));
 }
 
-void scanGroups() {
-  const uint pixels = uint(params.width * params.height);
-  const uint groups = (pixels + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
-  const uint chunk = (groups + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
-  const uint first = min(gl_LocalInvocationID.x * chunk, groups);
-  const uint last = min(first + chunk, groups);
+void countCandidates() {
+  const uvec2 run = runOfInvocation();
+  uint count = 0u;
+  for (uint i = run.x; i < run.y; ++i) count += pixel_match[i] == kPixelNewSurfel ? 1u : 0u;
+  run_counts[gl_GlobalInvocationID.x] = count;
+}
+
+void scanRuns() {
+  const uint chunk = kRuns / gl_WorkGroupSize.x;
+  const uint first = gl_LocalInvocationID.x * chunk;
+  const uint last = first + chunk;
   const uint base = state.surfel_count;
   uint sum = 0u;
-  for (uint g = first; g < last; ++g) sum += group_counts[g];
+  for (uint r = first; r < last; ++r) sum += run_counts[r];
   uint total;
   uint running = base + exclusiveScan(sum, total);
-  for (uint g = first; g < last; ++g) {
-    const uint count = group_counts[g];
-    group_counts[g] = running;
+  for (uint r = first; r < last; ++r) {
+    const uint count = run_counts[r];
+    run_counts[r] = running;
     running += count;
   }
   if (gl_LocalInvocationID.x == 0u) {
@@ -113,19 +121,20 @@ void scanGroups() {
 }
 
 void writeSurfels() {
-  const uint i = gl_GlobalInvocationID.x;
-  const uint pixels = uint(params.width * params.height);
-  const bool candidate = i < pixels && pixel_match[i] == kPixelNewSurfel;
-  uint total;
-  const uint index = group_counts[gl_WorkGroupID.x] + exclusiveScan(candidate ? 1u : 0u, total);
-  if (candidate && index < params.capacity) surfels[index] = newSurfel(i);
+  const uvec2 run = runOfInvocation();
+  uint index = run_counts[gl_GlobalInvocationID.x];
+  for (uint i = run.x; i < run.y; ++i) {
+    if (pixel_match[i] != kPixelNewSurfel) continue;
+    if (index < params.capacity) surfels[index] = newSurfel(i);
+    ++index;
+  }
 }
 
 void main() {
   if (push.pass == 0u) {
     countCandidates();
   } else if (push.pass == 1u) {
-    scanGroups();
+    scanRuns();
   } else {
     writeSurfels();
   }

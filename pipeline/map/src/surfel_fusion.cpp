@@ -17,6 +17,13 @@ constexpr std::uint32_t kWorkgroupSize = 256;
 /// GPU busy without launching capacity/256 mostly idle workgroups when the map is small.
 constexpr std::uint32_t kMaxSurfelWorkgroups = 1024;
 
+/// Runs of consecutive pixels that map_insert counts and writes, one invocation each (multiples of
+/// kWorkgroupSize). On CPU devices one run per SIMD lane is plenty (≈ 75 pixels each at 640×480);
+/// GPUs want more invocations and shorter runs.
+std::uint32_t insertRuns(const gpu::GpuContext& context) {
+  return context.features().device_type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 4096u : 65536u;
+}
+
 struct PassPush {
   std::uint32_t pass = 0;
 };
@@ -64,8 +71,9 @@ SurfelFusion::SurfelFusion(gpu::GpuContext& context, gpu::CapacityPlan& plan, co
   pixel_match_ = plan.addBuffer("map.pixel_match", pixels * sizeof(std::uint32_t), gpu::MemoryUse::DeviceLocal);
   surfel_claim_ = plan.addBuffer("map.surfel_claim", std::uint64_t{map.capacity()} * sizeof(std::uint32_t),
                                  gpu::MemoryUse::DeviceLocal);
-  group_counts_ = plan.addBuffer("map.insert_group_counts", std::uint64_t{groupsFor(pixels)} * sizeof(std::uint32_t),
-                                 gpu::MemoryUse::DeviceLocal);
+  insert_runs_ = insertRuns(context);
+  run_counts_ = plan.addBuffer("map.insert_run_counts", std::uint64_t{insert_runs_} * sizeof(std::uint32_t),
+                               gpu::MemoryUse::DeviceLocal);
 }
 
 SurfelFusion::~SurfelFusion() = default;
@@ -82,6 +90,7 @@ void SurfelFusion::build(const gpu::MemoryArena& arena, const FusionInputs& inpu
     spec.storage_buffers = buffers;
     spec.push_constant_bytes = push_bytes;
     spec.workgroup_size = {kWorkgroupSize, 1, 1};
+    spec.constants = {{3, insert_runs_}};  // kRuns (read by map_insert only)
     spec.max_binding_sets = 2;
     return gpu::ComputeKernel::create(context_, std::move(spec));
   };
@@ -101,7 +110,7 @@ void SurfelFusion::build(const gpu::MemoryArena& arena, const FusionInputs& inpu
     k.fuse_sets[parity] = k.fuse->bind({buffer(inputs.vertices), buffer(inputs.normals), buffer(inputs.rgb_words),
                                         buffer(params_buffer_), buffer(map_.state()), buffer(surfel_claim_), surfels});
     k.insert_sets[parity] = k.insert->bind({buffer(inputs.vertices), buffer(inputs.normals), buffer(inputs.rgb_words),
-                                            buffer(params_buffer_), buffer(pixel_match_), buffer(group_counts_),
+                                            buffer(params_buffer_), buffer(pixel_match_), buffer(run_counts_),
                                             buffer(map_.state()), surfels});
   }
 }
@@ -140,11 +149,11 @@ void SurfelFusion::recordStep(gpu::CommandRecorder& recorder, FusionStep step, i
       break;
     case FusionStep::Insert:
       // Each pass consumes the previous one's output (counts → offsets and count → surfels).
-      recorder.dispatch(*k.insert, k.insert_sets[p], {pixel_groups, 1, 1}, PassPush{0});
+      recorder.dispatch(*k.insert, k.insert_sets[p], {insert_runs_ / kWorkgroupSize, 1, 1}, PassPush{0});
       recorder.computeBarrier();
       recorder.dispatch(*k.insert, k.insert_sets[p], {1, 1, 1}, PassPush{1});
       recorder.computeBarrier();
-      recorder.dispatch(*k.insert, k.insert_sets[p], {pixel_groups, 1, 1}, PassPush{2});
+      recorder.dispatch(*k.insert, k.insert_sets[p], {insert_runs_ / kWorkgroupSize, 1, 1}, PassPush{2});
       break;
   }
   recorder.computeBarrier();

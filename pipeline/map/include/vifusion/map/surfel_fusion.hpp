@@ -77,7 +77,8 @@ class SurfelFusion {
   gpu::BufferId params_buffer_;
   gpu::BufferId pixel_match_;
   gpu::BufferId surfel_claim_;
-  gpu::BufferId group_counts_;
+  gpu::BufferId run_counts_;        ///< map_insert's per-run candidate counts, then offsets
+  std::uint32_t insert_runs_ = 0;  ///< pixel runs of map_insert
   const gpu::MemoryArena* arena_ = nullptr;
   std::unique_ptr<Kernels> kernels_;
 };

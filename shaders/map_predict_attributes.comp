@@ -15,8 +15,15 @@
 //   3  vertices   writeonly  vec4[]
 //   4  normals    writeonly  vec4[]
 //   5  intensity  writeonly  float[]
+// Compiled twice: as above, and with VIFUSION_SPLAT_INT64=1 (map_predict_attributes64) after the
+// single 64-bit splat pass, when it reads the packed (key << 32 | id) per pixel from binding 6 and
+// also writes the key to depth_bits (binding 7) and the id to ids, so both variants leave the same
+// splat images behind.
 // CPU reference: resolveModelCpu.
 #extension GL_GOOGLE_include_directive : require
+#if VIFUSION_SPLAT_INT64
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#endif
 #include "map/prediction.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
@@ -24,7 +31,13 @@ layout(local_size_x_id = 0, local_size_y_id = 1) in;
 
 layout(set = 0, binding = 0, std430) restrict readonly buffer Params { PredictionParams params; };
 layout(set = 0, binding = 1, std430) restrict readonly buffer Surfels { Surfel surfels[]; };
+#if VIFUSION_SPLAT_INT64
+layout(set = 0, binding = 2, std430) restrict writeonly buffer Ids { uint ids[]; };
+layout(set = 0, binding = 6, std430) restrict readonly buffer Splat { uint64_t splat[]; };
+layout(set = 0, binding = 7, std430) restrict writeonly buffer DepthBits { uint depth_bits[]; };
+#else
 layout(set = 0, binding = 2, std430) restrict readonly buffer Ids { uint ids[]; };
+#endif
 layout(set = 0, binding = 3, std430) restrict writeonly buffer Vertices { vec4 vertices[]; };
 layout(set = 0, binding = 4, std430) restrict writeonly buffer Normals { vec4 normals[]; };
 layout(set = 0, binding = 5, std430) restrict writeonly buffer Intensity { float intensity[]; };
@@ -35,7 +48,14 @@ void main() {
   if (pixel.x >= p.view.width || pixel.y >= p.view.height) return;
   const uint index = uint(pixel.y * p.view.width + pixel.x);
 
+#if VIFUSION_SPLAT_INT64
+  const uint64_t packed = splat[index];
+  const uint id = uint(packed & 0xffffffffUL);
+  ids[index] = id;
+  depth_bits[index] = uint(packed >> 32);
+#else
   const uint id = ids[index];
+#endif
   if (id == kNoSurfel) {
     vertices[index] = vec4(0.0);
     normals[index] = vec4(0.0);

@@ -7,7 +7,10 @@
 //     takes the atomicMin of its index, so exact ties go to the lowest index, deterministically.
 //     "≤" rather than "==" keeps a pixel covered even if a driver recomputed the depth one ulp
 //     lower (the helpers are `precise`, so it should not).
-// Only 32-bit atomics; no 64-bit (depth ‖ id) packing, which Mali/V3D lack.
+//   VIFUSION_SPLAT_PASS=2 (map_predict_splat64, devices with 64-bit buffer atomics): both at once,
+//     atomicMin of (splatKey << 32 | index) in a uint64 per pixel. The smallest packed value has
+//     the smallest key and, among equal keys, the lowest index: exactly what the two passes give,
+//     in one traversal of the surfels instead of two (the 32-bit passes stay for Mali/V3D).
 //
 // Bindings (set 0, std430):
 //   0  state       readonly   map state: surfel_count bounds the loop
@@ -15,9 +18,14 @@
 //   2  surfels     readonly   Surfel[] of the current ping-pong array
 //   3  depth_bits  pass 0: atomicMin target, cleared to 0xffffffff; pass 1: readonly
 //   4  ids         pass 1: atomicMin target, cleared to kNoSurfel; pass 0: unused
+//   (pass 2: 3 = splat, uint64 per pixel, atomicMin target cleared to all ones; no binding 4)
 // Grid-stride over surfels, so the dispatch size is fixed at record time (no indirect dispatch).
 // CPU reference: splatModelCpu.
 #extension GL_GOOGLE_include_directive : require
+#if VIFUSION_SPLAT_PASS == 2
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#endif
 #include "map/prediction.glsl"
 
 layout(local_size_x = 128) in;
@@ -31,8 +39,12 @@ layout(set = 0, binding = 0, std430) restrict readonly buffer MapState {
 } state;
 layout(set = 0, binding = 1, std430) restrict readonly buffer Params { PredictionParams params; };
 layout(set = 0, binding = 2, std430) restrict readonly buffer Surfels { Surfel surfels[]; };
+#if VIFUSION_SPLAT_PASS == 2
+layout(set = 0, binding = 3, std430) restrict buffer Splat { uint64_t splat[]; };
+#else
 layout(set = 0, binding = 3, std430) restrict buffer DepthBits { uint depth_bits[]; };
 layout(set = 0, binding = 4, std430) restrict buffer Ids { uint ids[]; };
+#endif
 
 void main() {
   // Loaded once: the compiler may not hoist buffer loads across the atomics in the loop.
@@ -53,6 +65,8 @@ void main() {
         const uint bits = splatKey(f, ivec2(x, y), q_C.z);
 #if VIFUSION_SPLAT_PASS == 0
         atomicMin(depth_bits[pixel], bits);
+#elif VIFUSION_SPLAT_PASS == 2
+        atomicMin(splat[pixel], (uint64_t(bits) << 32) | uint64_t(i));
 #else
         if (bits <= depth_bits[pixel]) atomicMin(ids[pixel], i);
 #endif

@@ -241,9 +241,12 @@ std::unique_ptr<GpuContext> GpuContext::create(const GpuOptions& options) {
   const bool has_atomic_float = hasDeviceExtension(ctx.physical_device_, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
   VkPhysicalDeviceShaderAtomicFloatFeaturesEXT atomic_float{};
   atomic_float.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT;
+  VkPhysicalDeviceVulkan12Features features12{};
+  features12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+  features12.pNext = has_atomic_float ? &atomic_float : nullptr;
   VkPhysicalDeviceFeatures2 features{};
   features.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
-  features.pNext = has_atomic_float ? &atomic_float : nullptr;
+  features.pNext = &features12;
   vkGetPhysicalDeviceFeatures2(ctx.physical_device_, &features);
   vkGetPhysicalDeviceMemoryProperties(ctx.physical_device_, &ctx.memory_properties_);
 
@@ -259,6 +262,8 @@ std::unique_ptr<GpuContext> GpuContext::create(const GpuOptions& options) {
                           (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT) != 0;
   f.float32_atomic_add = has_atomic_float && atomic_float.shaderBufferFloat32AtomicAdd;
   f.float64 = features.features.shaderFloat64 == VK_TRUE;
+  f.int64_atomics = !options.disable_int64_atomics && features.features.shaderInt64 == VK_TRUE &&
+                    features12.shaderBufferInt64Atomics == VK_TRUE;
   f.max_push_constants_bytes = limits.maxPushConstantsSize;
   f.max_storage_buffer_range_bytes = limits.maxStorageBufferRange;
   f.max_workgroup_invocations = limits.maxComputeWorkGroupInvocations;
@@ -280,9 +285,14 @@ std::unique_ptr<GpuContext> GpuContext::create(const GpuOptions& options) {
   VkPhysicalDeviceVulkan12Features enable12{};
   enable12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
   enable12.timelineSemaphore = VK_TRUE;
+  enable12.shaderBufferInt64Atomics = f.int64_atomics ? VK_TRUE : VK_FALSE;
+  VkPhysicalDeviceFeatures2 enable{};
+  enable.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+  enable.pNext = &enable12;
+  enable.features.shaderInt64 = f.int64_atomics ? VK_TRUE : VK_FALSE;
   VkDeviceCreateInfo device_info{};
   device_info.sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO;
-  device_info.pNext = &enable12;
+  device_info.pNext = &enable;
   device_info.queueCreateInfoCount = 1;
   device_info.pQueueCreateInfos = &queue_info;
   checkVk(vkCreateDevice(ctx.physical_device_, &device_info, nullptr, &ctx.device_),

@@ -28,6 +28,7 @@ GpuOptions GpuOptions::withEnvironment() const {
   options.validation = envFlag("VIFUSION_GPU_VALIDATION", options.validation);
   options.disable_subgroup_arithmetic =
       envFlag("VIFUSION_GPU_NO_SUBGROUP_ARITHMETIC", options.disable_subgroup_arithmetic);
+  options.disable_int64_atomics = envFlag("VIFUSION_GPU_NO_INT64_ATOMICS", options.disable_int64_atomics);
   return options;
 }
 

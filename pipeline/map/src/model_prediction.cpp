@@ -55,6 +55,8 @@ ModelPrediction::ModelPrediction(gpu::GpuContext& context, gpu::CapacityPlan& pl
   params_ = plan.addBuffer("prediction.params", sizeof(PredictionParams), gpu::MemoryUse::Upload);
   depth_bits_ = plan.addBuffer("prediction.depth_bits", pixels0 * 4, gpu::MemoryUse::DeviceLocal);
   ids_ = plan.addBuffer("prediction.ids", pixels0 * 4, gpu::MemoryUse::DeviceLocal);
+  int64_splat_ = context.features().int64_atomics;
+  if (int64_splat_) splat64_ = plan.addBuffer("prediction.splat64", pixels0 * 8, gpu::MemoryUse::DeviceLocal);
   for (int l = 0; l < options_.levels; ++l) {
     cameras_.push_back(camera.atLevel(l));
     const uint64_t n = uint64_t(cameras_.back().width) * uint64_t(cameras_.back().height);
@@ -84,9 +86,14 @@ void ModelPrediction::build(const gpu::MemoryArena& arena) {
     return gpu::ComputeKernel::create(context_, std::move(spec));
   };
   const std::array<uint32_t, 3> surfel_wg = {options_.surfel_workgroup_size, 1, 1};
-  k.depth = make("map_predict_depth", shaders::map_predict_depth, 5, 0, surfel_wg, 2);
-  k.id = make("map_predict_id", shaders::map_predict_id, 5, 0, surfel_wg, 2);
-  k.attributes = make("map_predict_attributes", shaders::map_predict_attributes, 6, 0, {wg, wg, 1}, 2);
+  if (int64_splat_) {
+    k.depth = make("map_predict_splat64", shaders::map_predict_splat64, 4, 0, surfel_wg, 2);
+    k.attributes = make("map_predict_attributes64", shaders::map_predict_attributes64, 8, 0, {wg, wg, 1}, 2);
+  } else {
+    k.depth = make("map_predict_depth", shaders::map_predict_depth, 5, 0, surfel_wg, 2);
+    k.id = make("map_predict_id", shaders::map_predict_id, 5, 0, surfel_wg, 2);
+    k.attributes = make("map_predict_attributes", shaders::map_predict_attributes, 6, 0, {wg, wg, 1}, 2);
+  }
   k.subsample = make("map_pyramid_subsample", shaders::map_pyramid_subsample, 6, sizeof(SubsamplePush), {wg, wg, 1},
                      static_cast<uint32_t>(std::max(1, options_.levels - 1)));
 
@@ -98,6 +105,13 @@ void ModelPrediction::build(const gpu::MemoryArena& arena) {
   const ModelLevelBuffers& l0 = levels_[0];
   for (int parity = 0; parity < 2; ++parity) {
     const gpu::GpuBuffer* surfels = buffer(surfels_[parity]);
+    if (int64_splat_) {
+      k.depth_sets[parity] = k.depth->bind({buffer(state_), buffer(params_), surfels, buffer(splat64_)});
+      k.attribute_sets[parity] =
+          k.attributes->bind({buffer(params_), surfels, buffer(ids_), buffer(l0.vertices), buffer(l0.normals),
+                              buffer(l0.intensity), buffer(splat64_), buffer(depth_bits_)});
+      continue;
+    }
     k.depth_sets[parity] = k.depth->bind({buffer(state_), buffer(params_), surfels, buffer(depth_bits_), buffer(ids_)});
     k.id_sets[parity] = k.id->bind({buffer(state_), buffer(params_), surfels, buffer(depth_bits_), buffer(ids_)});
     k.attribute_sets[parity] = k.attributes->bind({buffer(params_), surfels, buffer(ids_), buffer(l0.vertices),
@@ -130,13 +144,20 @@ void ModelPrediction::setView(const SE3d& T_C_W, std::uint32_t frame) const {
 void ModelPrediction::record(gpu::CommandRecorder& recorder, int parity) const {
   const Kernels& k = *kernels_;
   const int p = parity & 1;
-  recorder.fillBuffer(arena_->buffer(depth_bits_), 0xffffffffu);  // above every positive float's bits
-  recorder.fillBuffer(arena_->buffer(ids_), kNoSurfel);
-  recorder.computeBarrier();
-  recorder.dispatch(*k.depth, k.depth_sets[p], {k.splat_groups, 1, 1});
-  recorder.computeBarrier();
-  recorder.dispatch(*k.id, k.id_sets[p], {k.splat_groups, 1, 1});
-  recorder.computeBarrier();
+  if (int64_splat_) {
+    recorder.fillBuffer(arena_->buffer(splat64_), 0xffffffffu);  // key 0xffffffff, index kNoSurfel
+    recorder.computeBarrier();
+    recorder.dispatch(*k.depth, k.depth_sets[p], {k.splat_groups, 1, 1});
+    recorder.computeBarrier();
+  } else {
+    recorder.fillBuffer(arena_->buffer(depth_bits_), 0xffffffffu);  // above every positive float's bits
+    recorder.fillBuffer(arena_->buffer(ids_), kNoSurfel);
+    recorder.computeBarrier();
+    recorder.dispatch(*k.depth, k.depth_sets[p], {k.splat_groups, 1, 1});
+    recorder.computeBarrier();
+    recorder.dispatch(*k.id, k.id_sets[p], {k.splat_groups, 1, 1});
+    recorder.computeBarrier();
+  }
   const PinholeCamera& camera0 = cameras_[0];
   recorder.dispatch(*k.attributes, k.attribute_sets[p],
                     k.attributes->groupsFor(static_cast<uint32_t>(camera0.width), static_cast<uint32_t>(camera0.height)));

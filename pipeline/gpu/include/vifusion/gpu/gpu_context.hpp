@@ -26,6 +26,9 @@ struct GpuFeatures {
   uint32_t subgroup_size = 0;        ///< invocations per subgroup (lavapipe 8, Mali 16, NVIDIA 32)
   bool float32_atomic_add = false;   ///< VK_EXT_shader_atomic_float on storage buffers (queried, unused)
   bool float64 = false;              ///< shaderFloat64 (queried; kernels never rely on it, V3D lacks it)
+  /// shaderInt64 and shaderBufferInt64Atomics, enabled on the device when present (and not disabled
+  /// by GpuOptions): kernels with a 64-bit atomicMin variant use it instead of two 32-bit passes.
+  bool int64_atomics = false;
 
   uint32_t max_push_constants_bytes = 0;
   uint64_t max_storage_buffer_range_bytes = 0;

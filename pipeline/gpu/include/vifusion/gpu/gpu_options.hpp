@@ -21,6 +21,11 @@ struct GpuOptions {
   /// Environment: VIFUSION_GPU_NO_SUBGROUP_ARITHMETIC=1.
   bool disable_subgroup_arithmetic = false;
 
+  /// Behave as if the device lacked 64-bit storage-buffer atomics, so the 32-bit two-pass kernels
+  /// run where the single-pass 64-bit ones would (tests; Mali and V3D lack them anyway).
+  /// Environment: VIFUSION_GPU_NO_INT64_ATOMICS=1.
+  bool disable_int64_atomics = false;
+
   /// Returns these options with the environment variables above applied on top.
   GpuOptions withEnvironment() const;
 };

@@ -7,6 +7,9 @@
 //   clear → map_predict_depth (atomicMin of depth bits) → map_predict_id (atomicMin of the index
 //   among surfels at the minimum depth) → map_predict_attributes (the winner writes level 0) →
 //   map_pyramid_subsample (levels ≥ 1 sample level 0 at 2^l·(x, y)).
+// On devices with 64-bit buffer atomics (GpuFeatures::int64_atomics) the two splat passes are one,
+// map_predict_splat64 (atomicMin of key << 32 | index), and map_predict_attributes64 unpacks it:
+// the same winners from one traversal of the surfels instead of two.
 // Which surfels are rendered and how a disk is splatted: shaders/include/map/prediction.glsl.
 // The pose and frame live in a host-written parameter buffer (setView), so nothing is re-recorded.
 
@@ -88,6 +91,8 @@ class ModelPrediction {
   gpu::BufferId params_;
   gpu::BufferId depth_bits_;
   gpu::BufferId ids_;
+  bool int64_splat_ = false;  ///< one 64-bit splat pass instead of two 32-bit ones
+  gpu::BufferId splat64_;     ///< uint64 per level-0 pixel: key << 32 | index (int64_splat_ only)
   std::vector<ModelLevelBuffers> levels_;
   const gpu::MemoryArena* arena_ = nullptr;
   std::unique_ptr<Kernels> kernels_;

@@ -2,16 +2,17 @@
 // map_insert: new surfels from the pixels map_associate marked kPixelNewSurfel, appended in pixel
 // order (row-major) behind the existing surfels. A two-level prefix sum instead of an atomic counter
 // makes the order deterministic: the same frames always give byte-identical surfel arrays. The
-// pixels are cut into kRuns runs of consecutive pixels, one invocation per run:
-//   pass 0 (one invocation per run):  run_counts[r] = candidates in run r
-//   pass 1 (ONE workgroup):           run_counts[r] → surfel_count + candidates before run r (in
+// pixels are cut into runs of up to kRunPixels consecutive pixels of a row (pixelRun in
+// fusion_params.glsl), one invocation per run, and map_associate has already counted each run's
+// candidates into run_counts:
+//   pass 0 (ONE workgroup):           run_counts[r] → surfel_count + candidates before run r (in
 //                                     place); surfel_count += candidates, clamped to capacity;
 //                                     overflow_count += candidates that did not fit; frame = frame
-//   pass 2 (one invocation per run):  the k-th candidate of run r becomes surfel run_counts[r] + k,
+//   pass 1 (one invocation per run):  the k-th candidate of run r becomes surfel run_counts[r] + k,
 //                                     written only when that index is < capacity
-// Runs rather than one pixel per invocation with a workgroup scan: passes 0 and 2 then need no
-// shared memory and no barrier, and on lavapipe every barrier suspends and resumes each 8-wide slice
-// of the workgroup (measured: the workgroup scans were 44 of 434 CPU-ms of a 640×480 frame).
+// Runs rather than one pixel per invocation with a workgroup scan: pass 1 needs no shared memory
+// and no barrier, and on lavapipe every barrier suspends and resumes each 8-wide slice of the
+// workgroup (measured: the workgroup scans were 44 of 434 CPU-ms of a 640×480 frame).
 // A full map stops growing: the candidates beyond capacity are counted, never written (freeing
 // space is cleanup's job).
 //
@@ -24,16 +25,16 @@
 //   2  rgb_words     readonly  uint[]     packed RGB888
 //   3  params        readonly  FusionParams
 //   4  pixel_match   readonly  uint[w·h]
-//   5  run_counts              uint[kRuns]
+//   5  run_counts              uint[runs]  candidates per run (map_associate), then offsets
 //   6  state                   MapState
 //   7  surfels                 Surfel[capacity]  current surfel array
-// Push constants: uint pass (0, 1, 2). Specialization: 0 = workgroup size, 3 = kRuns (a multiple of
-// the workgroup size). CPU reference: vifusion::map::insertCpu.
+// Push constants: uint pass (0, 1). Specialization: 0 = workgroup size, 3 = kRunPixels (the same as
+// map_associate's). CPU reference: vifusion::map::insertCpu.
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 256) in;
 layout(local_size_x_id = 0) in;
-layout(constant_id = 3) const uint kRuns = 4096;
+layout(constant_id = 3) const uint kRunPixels = 32;
 
 #include "map/fusion_params.glsl"
 #include "map/map_state.glsl"
@@ -82,25 +83,11 @@ Surfel newSurfel(uint i) {
   return s;
 }
 
-// Pixels [first, last) of this invocation's run.
-uvec2 runOfInvocation() {
-  const uint pixels = uint(params.width * params.height);
-  const uint length = (pixels + kRuns - 1u) / kRuns;
-  const uint first = min(gl_GlobalInvocationID.x * length, pixels);
-  return uvec2(first, min(first + length, pixels));
-}
-
-void countCandidates() {
-  const uvec2 run = runOfInvocation();
-  uint count = 0u;
-  for (uint i = run.x; i < run.y; ++i) count += pixel_match[i] == kPixelNewSurfel ? 1u : 0u;
-  run_counts[gl_GlobalInvocationID.x] = count;
-}
-
 void scanRuns() {
-  const uint chunk = kRuns / gl_WorkGroupSize.x;
-  const uint first = gl_LocalInvocationID.x * chunk;
-  const uint last = first + chunk;
+  const uint runs = pixelRunCount(params, kRunPixels);
+  const uint chunk = (runs + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+  const uint first = min(gl_LocalInvocationID.x * chunk, runs);
+  const uint last = min(first + chunk, runs);
   const uint base = state.surfel_count;
   uint sum = 0u;
   for (uint r = first; r < last; ++r) sum += run_counts[r];
@@ -121,7 +108,8 @@ void scanRuns() {
 }
 
 void writeSurfels() {
-  const uvec2 run = runOfInvocation();
+  const uvec3 run = pixelRun(params, kRunPixels, gl_GlobalInvocationID.x);
+  if (run.x >= run.y) return;
   uint index = run_counts[gl_GlobalInvocationID.x];
   for (uint i = run.x; i < run.y; ++i) {
     if (pixel_match[i] != kPixelNewSurfel) continue;
@@ -132,8 +120,6 @@ void writeSurfels() {
 
 void main() {
   if (push.pass == 0u) {
-    countCandidates();
-  } else if (push.pass == 1u) {
     scanRuns();
   } else {
     writeSurfels();

@@ -17,11 +17,15 @@ constexpr std::uint32_t kWorkgroupSize = 256;
 /// GPU busy without launching capacity/256 mostly idle workgroups when the map is small.
 constexpr std::uint32_t kMaxSurfelWorkgroups = 1024;
 
-/// Runs of consecutive pixels that map_insert counts and writes, one invocation each (multiples of
-/// kWorkgroupSize). On CPU devices one run per SIMD lane is plenty (≈ 75 pixels each at 640×480);
-/// GPUs want more invocations and shorter runs.
-std::uint32_t insertRuns(const gpu::GpuContext& context) {
-  return context.features().device_type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 4096u : 65536u;
+/// Pixels per run of map_associate and map_insert (fusion_params.glsl: pixelRun), one invocation
+/// per run. On CPU devices long runs (the sliding window of the association reads 2 extra columns
+/// per run); GPUs want more invocations and shorter runs.
+std::uint32_t runPixels(const gpu::GpuContext& context) {
+  return context.features().device_type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 32u : 8u;
+}
+
+std::uint32_t runCount(const PinholeCamera& camera, std::uint32_t run_pixels) {
+  return static_cast<std::uint32_t>(camera.height) * ((static_cast<std::uint32_t>(camera.width) + run_pixels - 1) / run_pixels);
 }
 
 struct PassPush {
@@ -71,8 +75,8 @@ SurfelFusion::SurfelFusion(gpu::GpuContext& context, gpu::CapacityPlan& plan, co
   pixel_match_ = plan.addBuffer("map.pixel_match", pixels * sizeof(std::uint32_t), gpu::MemoryUse::DeviceLocal);
   surfel_claim_ = plan.addBuffer("map.surfel_claim", std::uint64_t{map.capacity()} * sizeof(std::uint32_t),
                                  gpu::MemoryUse::DeviceLocal);
-  insert_runs_ = insertRuns(context);
-  run_counts_ = plan.addBuffer("map.insert_run_counts", std::uint64_t{insert_runs_} * sizeof(std::uint32_t),
+  run_pixels_ = runPixels(context);
+  run_counts_ = plan.addBuffer("map.run_counts", std::uint64_t{runCount(camera, run_pixels_)} * sizeof(std::uint32_t),
                                gpu::MemoryUse::DeviceLocal);
 }
 
@@ -90,12 +94,12 @@ void SurfelFusion::build(const gpu::MemoryArena& arena, const FusionInputs& inpu
     spec.storage_buffers = buffers;
     spec.push_constant_bytes = push_bytes;
     spec.workgroup_size = {kWorkgroupSize, 1, 1};
-    spec.constants = {{3, insert_runs_}};  // kRuns (read by map_insert only)
+    spec.constants = {{3, run_pixels_}};  // kRunPixels (read by map_associate and map_insert)
     spec.max_binding_sets = 2;
     return gpu::ComputeKernel::create(context_, std::move(spec));
   };
   k.index = make("map_index", shaders::map_index, 5, sizeof(PassPush));
-  k.associate = make("map_associate", shaders::map_associate, 7, 0);
+  k.associate = make("map_associate", shaders::map_associate, 8, 0);
   k.fuse = make("map_fuse", shaders::map_fuse, 7, 0);
   k.insert = make("map_insert", shaders::map_insert, 8, sizeof(PassPush));
 
@@ -106,7 +110,7 @@ void SurfelFusion::build(const gpu::MemoryArena& arena, const FusionInputs& inpu
         {surfels, buffer(map_.state()), buffer(params_buffer_), buffer(map_.indexDepth()), buffer(map_.indexId())});
     k.associate_sets[parity] =
         k.associate->bind({buffer(inputs.vertices), buffer(inputs.normals), surfels, buffer(map_.indexId()),
-                           buffer(params_buffer_), buffer(pixel_match_), buffer(surfel_claim_)});
+                           buffer(params_buffer_), buffer(pixel_match_), buffer(surfel_claim_), buffer(run_counts_)});
     k.fuse_sets[parity] = k.fuse->bind({buffer(inputs.vertices), buffer(inputs.normals), buffer(inputs.rgb_words),
                                         buffer(params_buffer_), buffer(map_.state()), buffer(surfel_claim_), surfels});
     k.insert_sets[parity] = k.insert->bind({buffer(inputs.vertices), buffer(inputs.normals), buffer(inputs.rgb_words),
@@ -127,8 +131,8 @@ void SurfelFusion::record(gpu::CommandRecorder& recorder, int parity) const {
 void SurfelFusion::recordStep(gpu::CommandRecorder& recorder, FusionStep step, int parity) const {
   const Kernels& k = *kernels_;
   const int p = parity & 1;
-  const std::uint32_t pixel_groups = groupsFor(std::uint64_t(camera_.width) * std::uint64_t(camera_.height));
   const std::uint32_t surfel_groups = std::min(groupsFor(map_.capacity()), kMaxSurfelWorkgroups);
+  const std::uint32_t run_groups = groupsFor(runCount(camera_, run_pixels_));
   auto buffer = [&](gpu::BufferId id) -> const gpu::GpuBuffer& { return arena_->buffer(id); };
   switch (step) {
     case FusionStep::Index:
@@ -142,18 +146,16 @@ void SurfelFusion::recordStep(gpu::CommandRecorder& recorder, FusionStep step, i
       recorder.dispatch(*k.index, k.index_sets[p], {surfel_groups, 1, 1}, PassPush{1});
       break;
     case FusionStep::Associate:
-      recorder.dispatch(*k.associate, k.associate_sets[p], {pixel_groups, 1, 1});
+      recorder.dispatch(*k.associate, k.associate_sets[p], {run_groups, 1, 1});
       break;
     case FusionStep::Fuse:
       recorder.dispatch(*k.fuse, k.fuse_sets[p], {surfel_groups, 1, 1});
       break;
     case FusionStep::Insert:
-      // Each pass consumes the previous one's output (counts → offsets and count → surfels).
-      recorder.dispatch(*k.insert, k.insert_sets[p], {insert_runs_ / kWorkgroupSize, 1, 1}, PassPush{0});
+      // The scan turns association's run counts into offsets, which the write pass consumes.
+      recorder.dispatch(*k.insert, k.insert_sets[p], {1, 1, 1}, PassPush{0});
       recorder.computeBarrier();
-      recorder.dispatch(*k.insert, k.insert_sets[p], {1, 1, 1}, PassPush{1});
-      recorder.computeBarrier();
-      recorder.dispatch(*k.insert, k.insert_sets[p], {insert_runs_ / kWorkgroupSize, 1, 1}, PassPush{2});
+      recorder.dispatch(*k.insert, k.insert_sets[p], {run_groups, 1, 1}, PassPush{1});
       break;
   }
   recorder.computeBarrier();

@@ -75,6 +75,23 @@ float measurementRadius(FusionParams params, float z_m, float n_z) {
   return cos_view * 2.0 > 1.0 ? radius_m / cos_view : 2.0 * radius_m;
 }
 
+// The pixel runs map_associate and map_insert share: each image row cut into segments of
+// run_pixels (the last one shorter), numbered in pixel order, so run r covers the pixels
+// [first, end) of row `row` and the runs of a frame are pixelRunCount of them.
+uint pixelRunsPerRow(FusionParams params, uint run_pixels) { return (uint(params.width) + run_pixels - 1u) / run_pixels; }
+
+uint pixelRunCount(FusionParams params, uint run_pixels) { return uint(params.height) * pixelRunsPerRow(params, run_pixels); }
+
+// (first, end, row) of run r; first = end when r is past the last run.
+uvec3 pixelRun(FusionParams params, uint run_pixels, uint r) {
+  if (r >= pixelRunCount(params, run_pixels)) return uvec3(0u);
+  const uint per_row = pixelRunsPerRow(params, run_pixels);
+  const uint row = r / per_row;
+  const uint u = (r - row * per_row) * run_pixels;
+  const uint first = row * uint(params.width) + u;
+  return uvec3(first, first + min(run_pixels, uint(params.width) - u), row);
+}
+
 // Colour of pixel i from the packed RGB888 upload (3 bytes a pixel, see preprocess/packing.glsl).
 // Reads rgb_words[] of the including shader.
 #define FUSION_RGB_OF_PIXEL(rgb_words, i)                                                   \

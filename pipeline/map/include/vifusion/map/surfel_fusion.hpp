@@ -77,8 +77,8 @@ class SurfelFusion {
   gpu::BufferId params_buffer_;
   gpu::BufferId pixel_match_;
   gpu::BufferId surfel_claim_;
-  gpu::BufferId run_counts_;        ///< map_insert's per-run candidate counts, then offsets
-  std::uint32_t insert_runs_ = 0;  ///< pixel runs of map_insert
+  gpu::BufferId run_counts_;       ///< new surfels per pixel run (map_associate), then offsets (map_insert)
+  std::uint32_t run_pixels_ = 0;  ///< pixels per run of map_associate and map_insert
   const gpu::MemoryArena* arena_ = nullptr;
   std::unique_ptr<Kernels> kernels_;
 };

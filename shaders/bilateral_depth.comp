@@ -9,7 +9,8 @@
 //   0  depth_in   readonly   float[]  metric depth [m], 0 = invalid
 //   1  depth_out  writeonly  float[]  filtered metric depth [m], 0 = invalid
 // Push constants: BilateralDepthParams (vifusion/preprocess/kernel_params.hpp).
-// CPU reference: bilateralDepthCpu. One invocation per output pixel.
+// CPU reference: bilateralDepthCpu. One invocation per output pixel. Radius 0 (filter off) is not
+// dispatched: PreprocessStage records a buffer copy instead.
 #extension GL_GOOGLE_include_directive : require
 #include "preprocess/common.glsl"
 

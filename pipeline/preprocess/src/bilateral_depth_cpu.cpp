@@ -1,6 +1,7 @@
 // CPU reference of shaders/bilateral_depth.comp. Same loop order (rows outer, columns inner) and
 // the same float expressions, so the sums accumulate identically; only exp and the final division
-// may differ by a few ULP from the GPU's.
+// may differ by a few ULP from the GPU's. Radius 0 (off) is the identity, which PreprocessStage
+// records as a buffer copy rather than the kernel (whose 1/(1/z) would differ from z by an ulp).
 
 #include <cmath>
 #include <stdexcept>
@@ -18,8 +19,14 @@ void bilateralDepthCpu(ImageView<const float> depth_m, const BilateralDepthParam
     throw std::invalid_argument("bilateralDepthCpu: input and output must not alias");
   }
 
-  const float space_coeff = 0.5f / (params.sigma_space_px * params.sigma_space_px);  // 1/(2σ_s²) [1/px²]
   const int r = params.radius_px;
+  if (r == 0) {  // off: the identity, as PreprocessStage records it (a copy, invalid depth stays 0)
+    for (int y0 = 0; y0 < params.height; ++y0) {
+      for (int x0 = 0; x0 < params.width; ++x0) filtered_m(x0, y0) = depth_m(x0, y0) > 0.0f ? depth_m(x0, y0) : 0.0f;
+    }
+    return;
+  }
+  const float space_coeff = 0.5f / (params.sigma_space_px * params.sigma_space_px);  // 1/(2σ_s²) [1/px²]
   for (int y0 = 0; y0 < params.height; ++y0) {
     for (int x0 = 0; x0 < params.width; ++x0) {
       const float centre_m = depth_m(x0, y0);

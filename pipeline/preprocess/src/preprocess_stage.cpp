@@ -169,7 +169,14 @@ void PreprocessStage::recordStep(gpu::CommandRecorder& recorder, PreprocessStep 
       recorder.dispatch(*k.intensity, k.intensity_set, groups(*k.intensity, 0), options_.intensity);
       break;
     case PreprocessStep::Bilateral:
-      recorder.dispatch(*k.bilateral, k.bilateral_set, groups(*k.bilateral, 0), options_.bilateral);
+      // Off (radius 0, the default) the filter is the identity: a buffer copy instead of a kernel,
+      // which on lavapipe costs ~1/40 of a pass that reads and writes every pixel lane by lane.
+      if (options_.bilateral.radius_px == 0) {
+        recorder.copyBuffer(arena_->buffer(raw_depth_m_), arena_->buffer(levels_[0].depth_m),
+                            arena_->buffer(raw_depth_m_).bytes);
+      } else {
+        recorder.dispatch(*k.bilateral, k.bilateral_set, groups(*k.bilateral, 0), options_.bilateral);
+      }
       break;
     case PreprocessStep::Pyramids:
       // Level l needs level l−1, so each level is its own barrier-separated pass.
@@ -182,12 +189,20 @@ void PreprocessStage::recordStep(gpu::CommandRecorder& recorder, PreprocessStep 
       }
       break;
     case PreprocessStep::VerticesAndGradients:
-      recorder.dispatch(*k.vertices, k.filtered_vertex_set, groups(*k.vertices, 0),
-                        VertexMapParams::fromCamera(cameras_[0]));
+      if (options_.bilateral.radius_px != 0) {
+        recorder.dispatch(*k.vertices, k.filtered_vertex_set, groups(*k.vertices, 0),
+                          VertexMapParams::fromCamera(cameras_[0]));
+      }
       for (int l = 0; l < options_.levels; ++l) {
         recorder.dispatch(*k.vertices, k.vertex_sets[l], groups(*k.vertices, l), VertexMapParams::fromCamera(cameras_[l]));
         const IntensityGradientParams gradient{cameras_[l].width, cameras_[l].height};
         recorder.dispatch(*k.gradients, k.gradient_sets[l], groups(*k.gradients, l), gradient);
+      }
+      if (options_.bilateral.radius_px == 0) {
+        // Filter off: the filtered depth is a copy of the raw depth, so are its vertices.
+        recorder.computeBarrier();
+        recorder.copyBuffer(arena_->buffer(levels_[0].vertices), arena_->buffer(filtered_vertices_),
+                            arena_->buffer(filtered_vertices_).bytes);
       }
       break;
     case PreprocessStep::Normals:

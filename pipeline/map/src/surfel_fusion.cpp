@@ -6,6 +6,7 @@
 
 #include "vifusion/core/error.hpp"
 #include "vifusion/shaders/spirv.hpp"
+#include "grid_stride.hpp"
 
 namespace vifusion::map {
 namespace {
@@ -14,7 +15,8 @@ namespace {
 /// sized by it.
 constexpr std::uint32_t kWorkgroupSize = 256;
 /// Surfel kernels loop grid-stride, so a few workgroups cover any count; this many keep every
-/// GPU busy without launching capacity/256 mostly idle workgroups when the map is small.
+/// GPU busy without launching capacity/256 mostly idle workgroups when the map is small (CPU
+/// devices: grid_stride.hpp).
 constexpr std::uint32_t kMaxSurfelWorkgroups = 1024;
 
 /// Pixels per run of map_associate and map_insert (fusion_params.glsl: pixelRun), one invocation
@@ -131,7 +133,7 @@ void SurfelFusion::record(gpu::CommandRecorder& recorder, int parity) const {
 void SurfelFusion::recordStep(gpu::CommandRecorder& recorder, FusionStep step, int parity) const {
   const Kernels& k = *kernels_;
   const int p = parity & 1;
-  const std::uint32_t surfel_groups = std::min(groupsFor(map_.capacity()), kMaxSurfelWorkgroups);
+  const std::uint32_t surfel_groups = surfelWorkgroups(context_, std::min(groupsFor(map_.capacity()), kMaxSurfelWorkgroups));
   const std::uint32_t run_groups = groupsFor(runCount(camera_, run_pixels_));
   auto buffer = [&](gpu::BufferId id) -> const gpu::GpuBuffer& { return arena_->buffer(id); };
   switch (step) {

@@ -1,6 +1,8 @@
 #include "vifusion/reduction/level_reduction.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <thread>
 
 #include "vifusion/core/error.hpp"
 
@@ -11,8 +13,13 @@ LevelReduction::LevelReduction(gpu::GpuContext& context, gpu::CapacityPlan& plan
     : context_(context), kernel_spec_(std::move(kernel)), options_(options) {
   const std::string& name = kernel_spec_.name;
   if (levels < 1) throw Error(name + ": needs at least one level");
-  if (options_.workgroups == 0 || options_.workgroup_size < NormalEquations6::kTerms) {
-    throw Error(name + ": needs ≥ 1 workgroup of ≥ " + std::to_string(NormalEquations6::kTerms) + " invocations");
+  const bool cpu = context.features().device_type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  if (options_.workgroups == 0) {
+    options_.workgroups = cpu ? std::max(2u, 2u * std::thread::hardware_concurrency()) : 16u;
+  }
+  if (options_.workgroup_size == 0) options_.workgroup_size = cpu ? 64u : 128u;
+  if (options_.workgroup_size < NormalEquations6::kTerms) {
+    throw Error(name + ": needs workgroups of ≥ " + std::to_string(NormalEquations6::kTerms) + " invocations");
   }
   choice_ = chooseReduction(context.features(), options_.variant, options_.layout);
   for (int l = 0; l < levels; ++l) {

@@ -15,7 +15,7 @@ LevelReduction::LevelReduction(gpu::GpuContext& context, gpu::CapacityPlan& plan
   if (levels < 1) throw Error(name + ": needs at least one level");
   const bool cpu = context.features().device_type == VK_PHYSICAL_DEVICE_TYPE_CPU;
   if (options_.workgroups == 0) {
-    options_.workgroups = cpu ? std::max(2u, 2u * std::thread::hardware_concurrency()) : 16u;
+    options_.workgroups = cpu ? std::max(2u, std::thread::hardware_concurrency()) : 16u;
   }
   if (options_.workgroup_size == 0) options_.workgroup_size = cpu ? 64u : 128u;
   if (options_.workgroup_size < NormalEquations6::kTerms) {

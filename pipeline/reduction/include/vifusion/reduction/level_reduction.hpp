@@ -19,11 +19,13 @@
 namespace vifusion {
 
 struct LevelReductionOptions {
-  /// Partials the host sums; 0 = by device: 16 on GPUs, 2 per hardware thread on CPU devices.
+  /// Partials the host sums; 0 = by device: 16 on GPUs, one per hardware thread (≥ 2) on CPU devices.
   uint32_t workgroups = 0;
   /// ≥ 29 (one invocation per reduced term in the final step); 0 = by device: 128 on GPUs, 64 on
   /// CPU devices. lavapipe runs fewer, longer invocations faster (measured at 320×240: ICP
-  /// 3.1-3.7 → 2.3-2.8 CPU-ms per evaluation with 4 × 64 instead of 16 × 128; ≈ 10 % at 640×480).
+  /// 3.1-3.7 → 2.1-2.4 CPU-ms per evaluation with 2 × 64 instead of 16 × 128; ≈ 10 % at 640×480).
+  /// The grid only reassociates fp32 sums, but the bench trajectory is sensitive to that: ATE at
+  /// 320×240 ranged 10.0-10.7 mm over six grids (tests/bench/README.md).
   uint32_t workgroup_size = 0;
   ReductionVariant variant = ReductionVariant::Auto;
   ReductionLayout layout = ReductionLayout::Auto;

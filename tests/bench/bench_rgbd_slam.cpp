@@ -33,6 +33,9 @@
 //       copies of the same buffers on 1 and 2 threads (native_<term>_l0_ms_{1t,2t}), medians of 3;
 //       ratio_<term>_l0_{1t,2t} = GPU / native wall time, ratio_cpu_<term>_l0 = GPU CPU time /
 //       native 1-thread CPU time; native_<term>_l0_inliers_vs_gpu checks that both did the same work.
+//       The model prediction likewise against its CPU references every 10th frame
+//       (gpu_prediction_ms, native_prediction_ms_1t, ratio_prediction_1t, ratio_cpu_prediction,
+//       native_prediction_ids_vs_gpu).
 
 #include <benchmark/benchmark.h>
 #include <spawn.h>
@@ -52,6 +55,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <utility>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -62,14 +66,17 @@
 #include <vector>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/image.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/map/map_buffers.hpp"
+#include "vifusion/map/map_export.hpp"
 #include "vifusion/map/map_maintenance.hpp"
 #include "vifusion/map/model_prediction.hpp"
+#include "vifusion/map/prediction_cpu.hpp"
 #include "vifusion/map/surfel_fusion.hpp"
 #include "vifusion/preprocess/preprocess_stage.hpp"
 #include "vifusion/slam/rgbd_slam.hpp"
@@ -370,7 +377,10 @@ struct StepPipeline {
   std::unique_ptr<map::SurfelFusion> fusion;
   std::unique_ptr<map::MapMaintenance> maintenance;
   std::unique_ptr<map::ModelPrediction> prediction;
+  std::unique_ptr<map::MapExport> exporter;  ///< reads the map for the native prediction
+  gpu::BufferId splat_ids_readback;          ///< the GPU's splat winners, to check the native did the same
   std::unique_ptr<gpu::MemoryArena> arena;
+  std::unique_ptr<gpu::CommandSequence> splat_ids_copy;
   std::vector<std::unique_ptr<gpu::CommandSequence>> preprocess_steps;
   std::array<std::vector<std::unique_ptr<gpu::CommandSequence>>, 2> fusion_steps;
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> cleanup, compaction, predict;
@@ -405,6 +415,9 @@ struct StepPipeline {
     map::PredictionOptions prediction_options = options.prediction;
     prediction_options.levels = levels;
     prediction = std::make_unique<map::ModelPrediction>(ctx, plan, *map, camera, prediction_options);
+    exporter = std::make_unique<map::MapExport>(ctx, plan, *map);
+    splat_ids_readback = plan.addBuffer("bench.splat_ids", plan.buffers()[prediction->splatIds().index].bytes,
+                                        gpu::MemoryUse::Readback);
 
     Terms& t = terms;
     const auto mirror = [&](gpu::BufferId source, gpu::MemoryUse use, const char* suffix) {
@@ -443,7 +456,14 @@ struct StepPipeline {
     fusion->build(*arena, map::FusionInputs::fromPreprocess(stage));
     maintenance->build(*arena);
     prediction->build(*arena);
+    exporter->build(*arena);
     map->reset(*arena);
+    splat_ids_copy = gpu::CommandSequence::create(ctx, "bench.splat_ids_copy");
+    splat_ids_copy->record([&](gpu::CommandRecorder& recorder) {
+      recorder.copyBuffer(arena->buffer(prediction->splatIds()), arena->buffer(splat_ids_readback),
+                          arena->buffer(splat_ids_readback).bytes);
+      recorder.hostReadBarrier();
+    });
     t.arena = gpu::MemoryArena::create(ctx, t.plan);
     t.icp->build(*t.arena, t.icp_inputs);
     t.photometric->build(*t.arena, t.photometric_inputs);
@@ -643,6 +663,51 @@ void compareNative(StepPipeline& p, const SE3d& T_ref_cur, StepTimes& t) {
   t.add("native_photometric_l0_inliers_vs_gpu", gpu_photometric.inliers > 0.0 ? native[28] / gpu_photometric.inliers : 0.0);
 }
 
+/// The model prediction (the third kernel by time) against a native loop: the CPU references
+/// splatModelCpu + resolveModelCpu + subsampleModelCpu, plain float loops over the same surfels
+/// (read back first, untimed) doing the same splat, resolve and subsampling on one thread.
+/// gpu_prediction_ms re-runs the just-recorded prediction (idempotent); native_prediction_ids_vs_gpu
+/// is the fraction of pixels whose winning surfel agrees (1 = the same work).
+struct NativePrediction {
+  std::vector<map::Surfel> surfels;
+  std::vector<Image<std::uint32_t>> scratch;  ///< depth bits, ids
+  std::vector<Image<Eigen::Vector4f>> vertices, normals;
+  std::vector<Image<float>> intensity;
+};
+
+void comparePrediction(StepPipeline& p, int parity, const SE3d& T_C_W, std::uint32_t frame, NativePrediction& n,
+                       StepTimes& t) {
+  t.add("gpu_prediction_ms", medianMs(3, [&] { p.predict[parity]->run(); }));
+  p.splat_ids_copy->run();
+  p.exporter->read(n.surfels);
+  const map::PredictionParams params = p.prediction->makeParams(T_C_W, frame);
+  if (n.scratch.empty()) {
+    for (int k = 0; k < 2; ++k) n.scratch.emplace_back(params.view.width, params.view.height, 0u);
+    for (int l = 0; l < p.prediction->levels(); ++l) {
+      const PinholeCamera& camera = p.prediction->camera(l);
+      n.vertices.emplace_back(camera.width, camera.height, Eigen::Vector4f::Zero());
+      n.normals.emplace_back(camera.width, camera.height, Eigen::Vector4f::Zero());
+      n.intensity.emplace_back(camera.width, camera.height, 0.0f);
+    }
+  }
+  t.add("native_prediction_ms_1t", medianMs(3, [&] {
+          map::splatModelCpu(n.surfels, params, n.scratch[0].view(), n.scratch[1].view());
+          map::resolveModelCpu(n.surfels, params, std::as_const(n.scratch[1]).view(), n.vertices[0].view(),
+                               n.normals[0].view(), n.intensity[0].view());
+          for (int l = 1; l < p.prediction->levels(); ++l) {
+            map::subsampleModelCpu(std::as_const(n.vertices[0]).view(), std::as_const(n.normals[0]).view(),
+                                   std::as_const(n.intensity[0]).view(), l, n.vertices[l].view(), n.normals[l].view(),
+                                   n.intensity[l].view());
+          }
+        }));
+  const std::span<const std::uint32_t> gpu_ids = p.arena->buffer(p.splat_ids_readback).hostSpan<const std::uint32_t>();
+  const std::uint32_t* cpu_ids = n.scratch[1].data();
+  std::size_t same = 0;
+  for (std::size_t i = 0; i < gpu_ids.size(); ++i) same += gpu_ids[i] == cpu_ids[i] ? 1 : 0;
+  t.add("native_prediction_ids_vs_gpu", double(same) / double(gpu_ids.size()));
+  t.add("native_prediction_frames", 1.0);
+}
+
 void rgbdSlamSteps(benchmark::State& state, Size size) {
   const Sequence& sequence = sequenceFor(size);
   slam::SlamOptions slam_options;
@@ -652,6 +717,7 @@ void rgbdSlamSteps(benchmark::State& state, Size size) {
   const SE3d T_C0_world = sequence.ground_truth.front().T_world_body.inverse();
   const auto T_W_C_at = [&](std::size_t i) { return T_C0_world * sequence.ground_truth[i].T_world_body; };
   StepTimes times;
+  NativePrediction native_prediction;
   std::size_t next = 0;
   const auto frame = [&](bool timed) {
     const RgbdFrame& rgbd = sequence.frames[next];
@@ -683,6 +749,10 @@ void rgbdSlamSteps(benchmark::State& state, Size size) {
     t.time("ms_map_compaction", [&] { p.compaction[parity]->run(); });
     p.map->flip();
     t.time("ms_map_prediction", [&] { p.predict[parity ^ 1]->run(); });
+    // Every 10th frame (the map read-back is slow), and always in short runs.
+    if (timed && (frame_index % 10 == 9 || options().frames < 20)) {
+      comparePrediction(p, parity ^ 1, T_C_W, frame_index, native_prediction, t);
+    }
     t.time("ms_reference_copy", [&] { p.reference_copy->run(); });
     t.time("ms_reference_gradients", [&] { p.reference_gradients->run(); });
   };
@@ -703,6 +773,17 @@ void rgbdSlamSteps(benchmark::State& state, Size size) {
     c[std::string("ratio_cpu_") + term + "_l0"] =
         double(c["cpu_" + gpu]) / double(c[std::string("cpu_native_") + term + "_l0_ms_1t"]);
   }
+  // The prediction comparison ran on some frames only: per comparison, not per frame (the loop
+  // above divided by the frames; native_prediction_frames is now the share of frames compared).
+  if (const double compared = c["native_prediction_frames"]; compared > 0.0) {
+    for (const char* name : {"gpu_prediction_ms", "cpu_gpu_prediction_ms", "native_prediction_ms_1t",
+                             "cpu_native_prediction_ms_1t", "native_prediction_ids_vs_gpu"}) {
+      c[name] = double(c[name]) / compared;
+    }
+    c["ratio_prediction_1t"] = double(c["gpu_prediction_ms"]) / double(c["native_prediction_ms_1t"]);
+    c["ratio_cpu_prediction"] = double(c["cpu_gpu_prediction_ms"]) / double(c["cpu_native_prediction_ms_1t"]);
+  }
+  c.erase("native_prediction_frames");
   c["surfels"] = p.map->readState(*p.arena).surfel_count;
   state.SetLabel(context().features().device_name);
 }

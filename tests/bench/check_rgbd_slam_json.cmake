@@ -12,7 +12,8 @@ set(slam_counters ms_preprocess ms_tracking ms_mapping ms_total fps surfels aren
 set(step_counters ms_upload ms_pre_bilateral ms_fusion_index ms_fusion_fuse ms_map_compaction ms_map_prediction
                   cpu_ms_map_prediction ms_track_icp_l0 ms_track_photometric_l0 gn_iterations_l0 ms_reference_gradients
                   gpu_icp_l0_ms native_icp_l0_ms_1t native_icp_l0_ms_2t ratio_icp_l0_1t ratio_icp_l0_2t ratio_cpu_icp_l0
-                  gpu_photometric_l0_ms native_photometric_l0_ms_1t ratio_photometric_l0_2t ratio_cpu_photometric_l0)
+                  gpu_photometric_l0_ms native_photometric_l0_ms_1t ratio_photometric_l0_2t ratio_cpu_photometric_l0
+                  gpu_prediction_ms native_prediction_ms_1t ratio_prediction_1t ratio_cpu_prediction)
 set(found_slam FALSE)
 set(found_steps FALSE)
 math(EXPR last "${count} - 1")
@@ -41,6 +42,11 @@ foreach(i RANGE ${last})
         message(FATAL_ERROR "${name}: the native ${term} loop found ${value} × the GPU's inliers")
       endif()
     endforeach()
+    # The native prediction (the CPU references) must pick the GPU's splat winners.
+    string(JSON value GET "${text}" benchmarks ${i} native_prediction_ids_vs_gpu)
+    if(value LESS 0.999)
+      message(FATAL_ERROR "${name}: the native prediction agrees with the GPU's winners at only ${value} of the pixels")
+    endif()
   endif()
   if(name MATCHES "^rgbd_slam/")
     string(JSON lost GET "${text}" benchmarks ${i} lost_frames)

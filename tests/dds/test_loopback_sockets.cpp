@@ -3,14 +3,13 @@
 // addresses, after a writer and a reader exist so every DDSI socket has been made.
 //
 // What Cyclone 0.10.2 does (ddsi_udp.c, ddsi_udp_create_conn): its TRANSMIT socket is bound to the
-// configured interface's address, 127.0.0.1, so every datagram it sends leaves from loopback (Linux
-// does not route a 127.0.0.1 source off the host). Its unicast RECEIVE sockets are bound to
-// INADDR_ANY (0.0.0.0) on the domain's ports whatever the configuration says: a datagram sent to
-// those ports on another interface would reach it. 0.10 has no setting against that; keep it off
-// the outside network with the host's firewall, a network namespace or systemd's
-// IPAddressAllow=localhost / IPAddressDeny=any in the unit.
+// configured interface's address, 127.0.0.1; its unicast RECEIVE sockets are bound to INADDR_ANY
+// (0.0.0.0) on the domain's ports whatever the configuration says. Participant therefore binds every
+// one of them to the device lo (socket_confinement.hpp), so the kernel delivers to them only what
+// arrived on lo: that binding is checked here socket by socket.
 
 #include <gtest/gtest.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -97,6 +96,32 @@ TEST(DdsLoopback, SocketsStayOnLoopback) {
     }
   }
   EXPECT_GE(bound_to_loopback, 1) << "the transmit socket must be bound to 127.0.0.1";
+
+  const std::set<int> sockets = udpSocketDescriptors();
+  EXPECT_EQ(static_cast<int>(sockets.size()), participant.confinement().sockets) << participant.confinement().description;
+  EXPECT_EQ(participant.confinement().interface, "lo") << participant.confinement().description;
+  for (const int fd : sockets) {
+    char device[64] = {};
+    socklen_t length = sizeof(device);
+    ASSERT_EQ(getsockopt(fd, SOL_SOCKET, SO_BINDTODEVICE, device, &length), 0) << "socket " << fd;
+    EXPECT_STREQ(device, "lo") << "UDP socket " << fd << " is not bound to the device lo: it would receive from "
+                               << "every interface";
+  }
+}
+
+TEST(DdsLoopback, SocketsOpenedBeforeTheDomainAreLeftAlone) {
+  // A UDP socket the application opened itself (before the domain) is not Cyclone's to confine.
+  const int own = socket(AF_INET, SOCK_DGRAM, 0);
+  ASSERT_GE(own, 0);
+  {
+    const Participant participant(test::loopbackOptions());
+    char device[64] = {};
+    socklen_t length = sizeof(device);
+    ASSERT_EQ(getsockopt(own, SOL_SOCKET, SO_BINDTODEVICE, device, &length), 0);
+    EXPECT_STREQ(device, "") << "the application's own socket was bound to " << device;
+    EXPECT_GE(participant.confinement().sockets, 2) << participant.confinement().description;
+  }
+  close(own);
 }
 
 }  // namespace

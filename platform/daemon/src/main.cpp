@@ -98,6 +98,7 @@ int serve(const config::DaemonConfig& config) {
     logLine(LogLevel::Error, "DDS: %s", error.what());
     return config::kExitDds;
   }
+  logLine(LogLevel::Info, "%s", participant->confinement().description.c_str());
 
   SlamWorkerOptions worker_options;
   worker_options.out_dir = config.out;

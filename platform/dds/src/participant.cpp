@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "vifusion/core/error.hpp"
@@ -49,6 +50,7 @@ void ParticipantOptions::validate() const {
 Participant::Participant(const ParticipantOptions& options) : domain_id_(options.domain_id) {
   options.validate();
   const std::string where = "DDS domain " + std::to_string(options.domain_id);
+  const std::set<int> sockets_before = udpSocketDescriptors();
   const dds_entity_t domain = dds_create_domain(options.domain_id, options.config.c_str());
   if (domain == DDS_RETCODE_PRECONDITION_NOT_MET) {
     throw Error(where + " already exists in this process: use one Participant per domain");
@@ -61,6 +63,7 @@ Participant::Participant(const ParticipantOptions& options) : domain_id_(options
       checkEntity(dds_create_publisher(participant_.get(), qos.get(), nullptr), where + ": creating the publisher"));
   subscriber_ = Entity(
       checkEntity(dds_create_subscriber(participant_.get(), qos.get(), nullptr), where + ": creating the subscriber"));
+  confinement_ = confineNewUdpSockets(sockets_before);
 }
 
 }  // namespace vifusion::dds

@@ -54,6 +54,7 @@ int serve(const config::DaemonConfig& config) {
     logLine(LogLevel::Error, "DDS: %s", error.what());
     return config::kExitDds;
   }
+  logLine(LogLevel::Info, "%s", participant->confinement().description.c_str());
 
   HealthRules rules(config.health, config.mode != "rgbd");
   DiagnosticsMessage message;

@@ -4,12 +4,15 @@
 //
 // The domain is created with dds_create_domain(domain_id, config), so Cyclone reads exactly this
 // configuration and never CYCLONEDDS_URI: which network interfaces DDS uses is decided by the caller's
-// XML (tests: ../shared/dds/loopback.xml), not by whatever environment the process inherits.
+// XML (tests: ../shared/dds/loopback.xml), not by whatever environment the process inherits. When
+// that XML names one interface, every socket Cyclone opens is then bound to it in the kernel
+// (socket_confinement.hpp): Cyclone 0.10 alone would receive on all interfaces.
 
 #include <cstdint>
 #include <string>
 
 #include "vifusion/dds/entity.hpp"
+#include "vifusion/dds/socket_confinement.hpp"
 
 namespace vifusion::dds {
 
@@ -32,14 +35,17 @@ struct ParticipantOptions {
 /// Writers and readers must be destroyed before their Participant.
 class Participant {
  public:
-  /// Validates `options` and creates the entities; throws vifusion::Error with Cyclone's reason on
-  /// failure (Cyclone also logs configuration errors on stderr).
+  /// Validates `options`, creates the entities and confines their sockets; throws vifusion::Error
+  /// with Cyclone's reason on failure (Cyclone also logs configuration errors on stderr) or when
+  /// the kernel refuses the confinement.
   explicit Participant(const ParticipantOptions& options);
 
   dds_entity_t participant() const { return participant_.get(); }
   dds_entity_t publisher() const { return publisher_.get(); }
   dds_entity_t subscriber() const { return subscriber_.get(); }
   std::uint32_t domainId() const { return domain_id_; }
+  /// Which interface the DDS sockets are bound to, for the log.
+  const SocketConfinement& confinement() const { return confinement_; }
 
  private:
   std::uint32_t domain_id_;
@@ -48,6 +54,7 @@ class Participant {
   Entity participant_;
   Entity publisher_;
   Entity subscriber_;
+  SocketConfinement confinement_;
 };
 
 }  // namespace vifusion::dds

@@ -11,6 +11,7 @@ import hashlib
 import json
 import math
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -68,6 +69,22 @@ def odometry_only():
         fail(f"vifusiond exited with {code} after SIGTERM")
 
 
+def check_status_command():
+    """`vifusion status`, for a person, while the service runs: the status line and the health verdict."""
+    for _ in range(5):
+        result = subprocess.run([f"{BIN}/vifusion", "status", "--timeout", "3", *ECHO_ARGS],
+                                capture_output=True, text=True, timeout=30)
+        summary = re.search(r"^vifusiond: \w+, [\d.]+ frames/s, latency \d+ ms, (\d+) frames \((\d+) lost, "
+                            r"(\d+) without usable IMU\), \d+ surfels, camera ring \d+/\d+ \(\d+ overruns\)",
+                            result.stdout, re.MULTILINE)
+        if result.returncode == 0 and summary and "health: OK" in result.stdout:
+            print(f"vifusion status:\n{result.stdout}", end="", flush=True)
+            return
+        time.sleep(0.5)
+    fail(f"vifusion status never reported the running service healthy (exit {result.returncode}):\n"
+         f"{result.stdout}{result.stderr}")
+
+
 def odometry_health():
     monitor = health()
     diagnostics = echo("rt/diagnostics", 0, 25)
@@ -86,6 +103,7 @@ def odometry_health():
     # fast enough to be frame-rate output rather than a trickle.
     if not 2.0 <= rate <= 45.0:
         fail(f"odometry arrives at {rate:.1f} Hz, expected the data's frame rate (30 Hz) or somewhat below")
+    check_status_command()
     code = service.wait(60)
     if code != 0:
         fail(f"vifusiond exited with {code} at the end of the source")

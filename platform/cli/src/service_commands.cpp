@@ -79,11 +79,12 @@ int runStatus(const StatusCommandOptions& options) {
       status_reader.take([&](const dds::msg::Status& s) {
         char line[320];
         std::snprintf(line, sizeof(line),
-                      "vifusiond: %s, %.1f frames/s, latency %.0f ms, %llu frames (%llu lost), %u surfels, "
-                      "camera ring %u/%u (%llu overruns), heartbeat %llu\n",
+                      "vifusiond: %s, %.1f frames/s, latency %.0f ms, %llu frames (%llu lost, %llu without usable "
+                      "IMU), %u surfels, camera ring %u/%u (%llu overruns), heartbeat %llu\n",
                       trackingName(s.tracking_state), static_cast<double>(s.frame_rate_hz),
                       static_cast<double>(s.latency_ms), static_cast<unsigned long long>(s.frames_processed),
-                      static_cast<unsigned long long>(s.lost_frames), s.surfel_count, s.camera_ring.fill,
+                      static_cast<unsigned long long>(s.lost_frames),
+                      static_cast<unsigned long long>(s.imu_issue_frames), s.surfel_count, s.camera_ring.fill,
                       s.camera_ring.capacity, static_cast<unsigned long long>(s.camera_ring.overruns),
                       static_cast<unsigned long long>(s.heartbeat));
         status_text = line;

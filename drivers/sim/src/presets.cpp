@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -86,12 +87,23 @@ CameraAim quickRotationAim(double tau, double /*tau_total*/) {
   return aim;
 }
 
-// One slow pass along the blank x-max wall, looking at it (+x) from x ≈ 2.25 m.
-CameraAim whiteWallAim(double tau, double tau_total) {
+/// 0 before `start`, 1 after `start + length`, smootherstep in between.
+double smoothStep(double tau, double start, double length) {
+  const double x = std::clamp((tau - start) / length, 0.0, 1.0);
+  return x * x * x * (x * (6.0 * x - 15.0) + 10.0);
+}
+
+// The paper's low-texture sequences: a slow walk through the textured room that turns to the blank
+// x-max wall, passes along it close enough that it fills the view (≈ 1.6 m: about 4 s with nothing but
+// the white plane), then turns back to the part of the room it mapped before.
+CameraAim whiteWallAim(double tau, double /*tau_total*/) {
+  constexpr double kTurnS = 2.0;  // a head turn, ≈ 1.7 rad/s at its peak
+  const double at_wall = smoothStep(tau, 4.5, kTurnS) - smoothStep(tau, 9.0, kTurnS);
+  const double near_wall = smoothStep(tau, 3.5, 3.0) - smoothStep(tau, 9.0, 3.0);  // walking ≤ 0.3 m/s
   CameraAim aim;
-  aim.p_W_m = {2.25 + wave(0.03, 0.1, tau), 1.3 + wave(0.1, 0.13, tau),
-               -1.3 + 2.2 * tau / tau_total + wave(0.05, 0.3, tau)};
-  aim.forward_W = direction(0.5 * pi + wave(0.12, 0.11, tau), wave(0.05, 0.07, tau, 0.5));
+  aim.p_W_m = {1.8 + 0.45 * near_wall, 1.3 + wave(0.1, 0.13, tau), -0.9 + 0.1 * tau + wave(0.05, 0.3, tau)};
+  const double heading = (1.0 - at_wall) * wave(0.35, 0.06, tau) + at_wall * 0.5 * pi;
+  aim.forward_W = direction(heading + wave(0.05, 0.11, tau), wave(0.05, 0.07, tau, 0.5));
   aim.roll_rad = wave(0.03, 0.09, tau);
   return aim;
 }

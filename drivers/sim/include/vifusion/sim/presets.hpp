@@ -12,8 +12,11 @@
 //  - "fast":           20 s hand-held motion through the room, 20.5 m, peak 1.9 m/s, 3.05 rad/s, 2.7 m/s²;
 //  - "quick_rotation": 20 s of fast pans (±115° yaw swings at 0.4 Hz, some tilt) while drifting slowly,
 //                      peak 5.3 rad/s (below the 7.8 rad/s gyro saturation on every axis), 0.26 m/s;
-//  - "white_wall":     20 s slow pass along z (−1.3 … 0.95 m) at x ≈ 2.25 m looking +x at the blank
-//                      x = 3.85 m wall from ≈ 1.6 m, peak 0.23 m/s, 0.09 rad/s;
+//  - "white_wall":     20 s slow walk along z (−0.9 … 0.85 m) looking into the room (+z), with a turn to
+//                      the blank x = 3.85 m wall and a pass along it from ≈ 1.6 m, where it fills the view
+//                      (≈ 4 s from t ≈ 6.8 s), then back to the part of the room mapped before — the
+//                      paper's low-texture sequences 16–17 (18 stays on the wall "too long" and fails);
+//                      peak 0.35 m/s, 1.7 rad/s in the turns;
 //  - "long":           60 s, two laps (16.4 m) of an ellipse around the room looking outward at ≈ 60° from the
 //                      direction of travel, ending exactly on its start pose (a loop closure), peak 0.35 m/s,
 //                      0.44 rad/s.

@@ -294,6 +294,24 @@ def rgbdi():
     if last_status["imu_issue_frames"] > 1:
         fail(f"{last_status['imu_issue_frames']} frames had their IMU samples refused on a clean simulated stream")
 
+    # states.csv beside trajectory.txt: one row per estimator frame, readable by `vifusion eval --states`.
+    out = f"{WORK}/rgbdi"
+    with open(f"{out}/states.csv") as f:
+        rows = [line for line in f if not line.startswith("#")]
+    with open(f"{out}/trajectory.txt") as f:
+        poses = [line for line in f if not line.startswith("#")]
+    if not 0 < len(rows) <= len(poses) or len(rows) < last_status["frames_processed"] - last_status["imu_issue_frames"] - 2:
+        fail(f"states.csv has {len(rows)} rows for {len(poses)} poses and {last_status['frames_processed']} frames")
+    result = subprocess.run([f"{BIN}/vifusion", "eval", "--gt", f"{SIM}/groundtruth.txt", "--est", f"{out}/trajectory.txt",
+                             "--states", f"{out}/states.csv"], capture_output=True, text=True, timeout=60)
+    if result.returncode != 0:
+        fail(f"vifusion eval --states on the daemon's states.csv failed: {result.stderr.strip()}")
+    states = json.loads(result.stdout).get("states", {})
+    if states.get("samples", 0) < len(rows) // 2 or not finite([states.get("velocity_rms_mps", math.nan)]):
+        fail(f"vifusion eval did not compare the daemon's states with the ground truth: {result.stdout}")
+    print(f"states.csv: {len(rows)} rows for {len(poses)} poses; vifusion eval --states compared "
+          f"{states['samples']} of them (velocity RMS {states['velocity_rms_mps']:.3f} m/s)", flush=True)
+
 
 def imu_gap():
     """A 0.5 s hole in the IMU stream (a driver that stalled): the frames in it are tracked RGB-D only,

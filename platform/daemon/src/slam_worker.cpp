@@ -13,6 +13,7 @@ SlamWorker::SlamWorker(slam::RgbdSlam& pipeline, const map::MapOptions& map_opti
                        const SlamWorkerOptions& options, SharedState& state)
     : pipeline_(pipeline), map_options_(map_options), options_(options), state_(state) {
   trajectory_.reserve(options.expected_frames);
+  if (options.imu != nullptr) states_.reserve(options.expected_frames);
 }
 
 void SlamWorker::run() {
@@ -43,6 +44,7 @@ void SlamWorker::run() {
       output.surfels = result.surfels;
       output.frame_number = processed;
       if (result.inertial) {
+        states_.push_back({result.t_ns, result.state, result.state_variance});
         output.state = result.state;
         output.state_variance = result.state_variance;
       }
@@ -85,12 +87,19 @@ void SlamWorker::writeOutputs() {
     const std::filesystem::path temporary = options_.out_dir / "trajectory.txt.tmp";
     eval::writeTum(temporary, trajectory_);
     std::filesystem::rename(temporary, trajectory_path);
+    if (options_.imu != nullptr) {
+      const std::filesystem::path states_path = options_.out_dir / "states.csv";
+      eval::writeEstimatedStates(options_.out_dir / "states.csv.tmp", states_);
+      std::filesystem::rename(options_.out_dir / "states.csv.tmp", states_path);
+    }
     std::vector<map::Surfel> surfels;
     pipeline_.exportMap(surfels);
     const std::size_t written = map::writeSurfelPly(options_.out_dir / "map.ply", surfels,
                                                     map::SurfelPlyOptions::stableOnly(map_options_));
-    service::logLine(service::LogLevel::Info, "wrote %s (%zu poses) and map.ply (%zu surfels)",
-                     trajectory_path.c_str(), trajectory_.size(), written);
+    const std::string states_text =
+        options_.imu != nullptr ? "states.csv (" + std::to_string(states_.size()) + " states), " : "";
+    service::logLine(service::LogLevel::Info, "wrote %s (%zu poses), %smap.ply (%zu surfels)",
+                     trajectory_path.c_str(), trajectory_.size(), states_text.c_str(), written);
   } catch (const std::exception& error) {
     service::logLine(service::LogLevel::Error, "cannot write the outputs: %s", error.what());
     state_.fail(config::kExitOutput);

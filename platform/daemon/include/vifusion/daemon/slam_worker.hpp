@@ -2,7 +2,8 @@
 // The SLAM thread: the only user of the GPU pipeline. Takes frames from the camera ring, tracks and
 // maps them, hands small results to the publisher, and exports the map every map_publish_period_s.
 // When it stops (SIGTERM, end of source, max_frames) it finishes the current frame and writes
-// trajectory.txt and map.ply atomically (temporary file + rename).
+// trajectory.txt and map.ply atomically (temporary file + rename), and in the inertial modes
+// states.csv too (the estimator's state and marginal variances per frame, `vifusion eval --states`).
 //
 // Inertial modes: each frame gets its IMU samples from an ImuFeed (imu_feed.hpp). A frame whose samples
 // the pipeline refuses (gap, disorder, not covered, …) is tracked RGB-D only; it is counted in
@@ -15,13 +16,14 @@
 
 #include "vifusion/daemon/imu_feed.hpp"
 #include "vifusion/daemon/shared_state.hpp"
+#include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/slam/rgbd_slam.hpp"
 
 namespace vifusion::daemon {
 
 struct SlamWorkerOptions {
-  std::filesystem::path out_dir;          ///< trajectory.txt and map.ply go here
+  std::filesystem::path out_dir;          ///< trajectory.txt, map.ply (and states.csv) go here
   std::uint64_t max_frames = 0;           ///< 0: until the source ends or stop
   std::int64_t map_period_ns = 0;         ///< map snapshot period [ns]; 0: never
   std::size_t expected_frames = 0;        ///< trajectory capacity reserved up front
@@ -49,6 +51,7 @@ class SlamWorker {
   SlamWorkerOptions options_;
   SharedState& state_;
   std::vector<eval::StampedPose> trajectory_;
+  std::vector<eval::StateRecord> states_;  ///< inertial modes: the frames the estimator held
   std::vector<map::Surfel> snapshot_;
   std::int64_t next_imu_log_ns_ = 0;  ///< host time from which the next IMU issue may be logged [ns]
 };

@@ -36,10 +36,8 @@ def daemon(out, *extra, realtime=True):
 
 
 def health(*extra):
-    # A lost-tracking streak is not what these tests are about (160×120 tracks poorly): only the
-    # heartbeat, frame rate and overrun rules decide.
-    return start([f"{BIN}/vifusion-health", *DDS_ARGS, "--health.min_frame_rate_hz", "1",
-                  "--health.lost_error_s", "1000", *extra])
+    # A loaded CI machine may process fewer than the default 5 frames/s: only a stall should matter.
+    return start([f"{BIN}/vifusion-health", *DDS_ARGS, "--health.min_frame_rate_hz", "1", *extra])
 
 
 def sha(path):
@@ -209,9 +207,10 @@ def vector(message, key):
 def rgbdi():
     """mode rgbdi: separate readers get rt/vifusion/imu_state (finite, a unit gravity direction, positive
     variances) and odometry whose pose covariance comes from the estimator (positive diagonal), for the
-    same frames; the daemon ends cleanly at the end of the source. This checks the service's wiring and
-    messages, not the estimator's accuracy: at 160×120 this sequence loses most frames in every mode
-    (`vifusion run` too), and the accuracy is the allocation test's and tests/bench's business."""
+    same frames; the daemon ends cleanly at the end of the source, and its states.csv reads back through
+    `vifusion eval --states`. This checks the service's wiring and messages; accuracy is tests/integration's
+    and tests/bench's business, so the bounds here (no lost frame, velocity within 0.25 m/s RMS; measured
+    0 and 0.06 m/s) only catch an estimator that is not running at all."""
     count = 15
     imu_state = echo("rt/vifusion/imu_state", count, 60)
     odometry = echo("rt/vifusion/odometry", count, 60)
@@ -311,6 +310,9 @@ def rgbdi():
         fail(f"vifusion eval did not compare the daemon's states with the ground truth: {result.stdout}")
     print(f"states.csv: {len(rows)} rows for {len(poses)} poses; vifusion eval --states compared "
           f"{states['samples']} of them (velocity RMS {states['velocity_rms_mps']:.3f} m/s)", flush=True)
+    if last_status["lost_frames"] > 0 or states["velocity_rms_mps"] > 0.25:
+        fail(f"{last_status['lost_frames']} frames lost, velocity RMS {states['velocity_rms_mps']:.3f} m/s: "
+             f"the estimator is not tracking this sequence")
 
 
 def imu_gap():

@@ -18,6 +18,7 @@
 #include "vifusion/scene/renderer.hpp"
 #include "vifusion/scene/row_pool.hpp"
 #include "vifusion/scene/sensor_noise.hpp"
+#include "vifusion/scene/sensor_resolution.hpp"
 #include "vifusion/sim/imu_simulator.hpp"
 #include "vifusion/sim/presets.hpp"
 #include "vifusion/sim/trajectory_fit.hpp"
@@ -122,6 +123,17 @@ int runSim(const SimOptions& options) {
   const PinholeCamera& camera = calibration.camera;
   Image<Rgb8> rgb(camera.width, camera.height);
   Image<uint16_t> depth(camera.width, camera.height);
+  // Noisy depth comes from the sensor's native resolution (sensor_resolution.hpp), colour from `camera`.
+  const int subsampling = scene::sensorSubsampling(camera);
+  const PinholeCamera sensor_camera = scene::sensorCamera(camera, subsampling);
+  Image<Rgb8> sensor_rgb;
+  Image<float> sensor_depth_m;
+  Image<uint16_t> sensor_depth;
+  if (subsampling > 1) {
+    sensor_rgb.resize(sensor_camera.width, sensor_camera.height);
+    sensor_depth_m.resize(sensor_camera.width, sensor_camera.height);
+    sensor_depth.resize(sensor_camera.width, sensor_camera.height);
+  }
   Image<float> depth_m(camera.width, camera.height);
   std::vector<SE3d> sub_frame_poses(std::max(blur_samples, 1));
   const int64_t frames = (t_end_ns - fit.first_pose_ns) / kFramePeriodNs + 1;
@@ -136,7 +148,13 @@ int runSim(const SimOptions& options) {
       const int64_t t_sample = std::clamp(t_ns + offset_ns, fit.spline_W_S.startTimeNs(), fit.spline_W_S.endTimeNs());
       sub_frame_poses[i] = fit.cameraPose(t_sample);
     }
-    if (options.noise) {
+    if (options.noise && subsampling > 1) {
+      renderer.renderBlurred(sub_frame_poses, sensor_camera, sensor_rgb.view(), sensor_depth_m.view());
+      noise.addDepthNoise(sensor_depth_m.view(), sensor_depth.view(), static_cast<uint64_t>(k));
+      scene::subsampleDepth(sensor_depth.view(), subsampling, depth.view());
+      renderer.renderBlurred(sub_frame_poses, camera, rgb.view(), depth_m.view());
+      noise.addIntensityNoise(rgb.view(), static_cast<uint64_t>(k));
+    } else if (options.noise) {
       renderer.renderBlurred(sub_frame_poses, camera, rgb.view(), depth_m.view());
       noise.addDepthNoise(depth_m.view(), depth.view(), static_cast<uint64_t>(k));
       noise.addIntensityNoise(rgb.view(), static_cast<uint64_t>(k));

@@ -136,6 +136,8 @@ NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, Tracki
   return sum;
 }
 
+NormalEquations6 DenseTracker::icpEquations(int level) const { return icp_->result(level); }
+
 TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
   TrackingResult result;
   result.T_ref_cur = T_ref_cur_guess;

@@ -36,6 +36,7 @@ const char* slamModeName(SlamMode mode) {
 void SlamOptions::validate() const {
   tracker.validate();
   estimator.validate();
+  dense_terms.validate();
   imu.validate();
   map.validate();
   fusion.validate();
@@ -64,7 +65,11 @@ RgbdSlam::RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, 
     imu::ImuOptions imu_options = options.imu;
     imu_options.noise = calibration.imu;
     estimator_ = std::make_unique<estimator::TwoStateEstimator>(estimator_options, imu_options, calibration.T_S_C);
-    dense_terms_ = std::make_unique<TrackerDenseTerms>(*tracker_);
+    // Only the accelerometer can carry what the dense terms give up: gyro mode takes them whole.
+    const DenseTermsOptions dense_terms = options.mode == SlamMode::kRgbdInertial
+                                              ? options.dense_terms
+                                              : DenseTermsOptions{.information_scale = 1.0, .icp_min_constraint_share = 0.0};
+    dense_terms_ = std::make_unique<TrackerDenseTerms>(*tracker_, dense_terms);
   }
 
   arena_ = gpu::MemoryArena::create(context, plan_);

@@ -2,16 +2,20 @@
 // The dense tracker as the two-state estimator's dense terms: evaluates the GPU terms at a camera pose in
 // W against the reference view rendered at T_W_ref and hands them over in the state's coordinates.
 // Unlike DenseTracker::track(), a rank-deficient dense system is usable here (a blank wall leaves the
-// sliding directions to the IMU); only an evaluation with almost no inliers is refused.
+// sliding directions to the IMU); only an evaluation with almost no inliers is refused. Before they are
+// handed over, the ICP's directions that its surfaces do not constrain are removed at every level
+// (icp_degeneracy.hpp: the IMU carries them, not quantisation bands that move with the camera) and the
+// information is scaled for the pixels' correlation (DenseTermsOptions).
 
 #include "vifusion/estimator/two_state_estimator.hpp"
+#include "vifusion/slam/dense_terms_options.hpp"
 #include "vifusion/slam/dense_tracker.hpp"
 
 namespace vifusion::slam {
 
 class TrackerDenseTerms : public estimator::DenseTerms {
  public:
-  explicit TrackerDenseTerms(DenseTracker& tracker) : tracker_(tracker) {}
+  TrackerDenseTerms(DenseTracker& tracker, const DenseTermsOptions& options) : tracker_(tracker), options_(options) {}
 
   /// The pose the reference view (the map prediction) was rendered at; set before each frame.
   void setReference(const SE3d& T_W_ref) { T_W_ref_ = T_W_ref; }
@@ -24,6 +28,7 @@ class TrackerDenseTerms : public estimator::DenseTerms {
 
  private:
   DenseTracker& tracker_;
+  DenseTermsOptions options_;
   SE3d T_W_ref_;
   TrackingResult statistics_;
 };

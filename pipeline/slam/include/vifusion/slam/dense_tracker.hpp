@@ -74,6 +74,8 @@ class DenseTracker {
   /// variance. Fills the inlier counts of `statistics`. For estimators that add their own terms (the
   /// two-state RGB-D-inertial solver); track() runs the same evaluation.
   NormalEquations6 evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics);
+  /// The ICP term's part of the last evaluate() at `level` (icp_degeneracy.hpp needs it on its own).
+  NormalEquations6 icpEquations(int level) const;
   /// The tracking-health test on the statistics of a final level-0 evaluation (see min_inlier_fraction).
   bool healthy(const TrackingResult& statistics) const;
 

@@ -30,6 +30,7 @@
 #include "vifusion/map/map_maintenance.hpp"
 #include "vifusion/map/model_prediction.hpp"
 #include "vifusion/map/surfel_fusion.hpp"
+#include "vifusion/slam/dense_terms_options.hpp"
 #include "vifusion/slam/dense_tracker.hpp"
 
 namespace vifusion::slam {
@@ -46,6 +47,9 @@ struct SlamOptions {
   TrackerOptions tracker;
   /// Inertial modes: the estimator's mode and iteration schedule are set from `mode` and `tracker`.
   estimator::EstimatorOptions estimator;
+  /// rgbdi mode: how the dense terms enter the estimator (gyro mode takes them unscaled and whole: without
+  /// the accelerometer nothing else determines translation).
+  DenseTermsOptions dense_terms;
   /// Inertial modes: gap and re-integration rules; the noise is taken from the calibration.
   imu::ImuOptions imu;
   map::MapOptions map;

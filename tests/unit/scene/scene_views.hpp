@@ -8,9 +8,23 @@
 #include "vifusion/core/image.hpp"
 #include "vifusion/core/pinhole_camera.hpp"
 #include "vifusion/core/se3.hpp"
+#include "vifusion/scene/living_room.hpp"
 #include "vifusion/scene/look_at.hpp"
+#include "vifusion/scene/row_pool.hpp"
 
 namespace vifusion::scene::test {
+
+/// The standard furnished room, built once per test binary.
+inline const LivingRoom& room() {
+  static const LivingRoom instance;
+  return instance;
+}
+
+/// Two row workers, as on the target machine.
+inline RowPool& pool() {
+  static RowPool instance(2);
+  return instance;
+}
 
 /// ICL-NUIM intrinsics (negative fy, as the dataset renders).
 inline PinholeCamera iclCamera() { return PinholeCamera::create(640, 480, 481.2, -480.0, 319.5, 239.5); }

@@ -21,20 +21,13 @@
 namespace vifusion::scene {
 namespace {
 
-using test::iclCamera;
+using test::pool;
+using test::room;
 
-const LivingRoom& room() {
-  static const LivingRoom instance;
-  return instance;
-}
+using test::iclCamera;
 
 const LivingRoom& bareRoom() {
   static const LivingRoom instance(std::vector<BoxSpec>{});
-  return instance;
-}
-
-RowPool& pool() {
-  static RowPool instance(2);
   return instance;
 }
 

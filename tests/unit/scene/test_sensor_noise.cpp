@@ -15,15 +15,8 @@
 namespace vifusion::scene {
 namespace {
 
-RowPool& pool() {
-  static RowPool instance(2);
-  return instance;
-}
-
-const LivingRoom& room() {
-  static const LivingRoom instance;
-  return instance;
-}
+using test::pool;
+using test::room;
 
 struct Frame {
   Image<Rgb8> rgb{640, 480};

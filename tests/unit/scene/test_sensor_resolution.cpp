@@ -15,15 +15,8 @@
 namespace vifusion::scene {
 namespace {
 
-RowPool& pool() {
-  static RowPool instance(2);
-  return instance;
-}
-
-const LivingRoom& room() {
-  static const LivingRoom instance;
-  return instance;
-}
+using test::pool;
+using test::room;
 
 /// The sim's 160×120 camera: ICL-NUIM's intrinsics for that image size (pixel centres at integers).
 PinholeCamera quarterCamera() { return PinholeCamera::create(160, 120, 120.3, 120.0, 79.5, 59.5); }

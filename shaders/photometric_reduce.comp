@@ -5,7 +5,8 @@
 //   J = ∇I_ref(π(q))·∂π/∂q·[I, −[q]×] = [gᵀ, (q × g)ᵀ],  g = (∂π/∂q)ᵀ∇I_ref,
 // for T_ref_cur ← exp(δ)·T_ref_cur, δ = [ρ, φ]. I_ref and ∇I_ref are sampled bilinearly.
 // Gates: current vertex valid, π(q) inside the image with its 2×2 neighbourhood, reference depth
-// at π(q) valid and within max_depth_difference_m of q.z (occlusions), ‖∇I_ref‖ ≥ min_gradient.
+// at π(q) valid and within max_depth_difference_m of q.z (occlusions), ‖∇I_ref‖ ≥ min_gradient,
+// and reference depth valid on the whole support of the sample (support_radius_px).
 // Weight: 1/σ² times a Huber weight on r/σ, σ² = σ_I² + (σ_px·‖∇I_ref‖)² (intensity noise plus the
 // positional uncertainty of the predicted reference image, PhotometricOptions).
 //
@@ -62,6 +63,15 @@ void neAddItem(inout float acc[NE_TERMS], int i) {
   const vec2 gradient = w00 * ref_gradients[j] + w10 * ref_gradients[j + 1] + w01 * ref_gradients[j + params.width] +
                         w11 * ref_gradients[j + params.width + 1];
   if (dot(gradient, gradient) < params.min_gradient * params.min_gradient) return;
+  // Every reference pixel the interpolated intensity and gradient depend on must be a predicted one
+  // (coordinates clamped like the gradient and pyramid kernels): next to a hole of the prediction,
+  // whose intensity is 0, they would describe an edge that is not in the scene.
+  for (int dy = 1 - params.support_radius_px; dy <= params.support_radius_px; ++dy) {
+    const int row = clamp(y0 + dy, 0, params.height - 1) * params.width;
+    for (int dx = 1 - params.support_radius_px; dx <= params.support_radius_px; ++dx) {
+      if (!(ref_vertices[row + clamp(x0 + dx, 0, params.width - 1)].z > 0.0)) return;
+    }
+  }
 
   const float r = intensity - cur_intensity[i];
   const vec3 g = vec3(gradient.x * params.fx * inv_z, gradient.y * params.fy * inv_z,

@@ -107,7 +107,7 @@ class TwoFrameFixture {
         image<VertexPixel>(current_[level].vertices, level), image<float>(current_[level].intensity, level),
         image<float>(reference_[level].intensity, level), image<GradientPixel>(reference_[level].gradients, level),
         image<VertexPixel>(reference_[level].vertices, level),
-        tracking::PhotometricParams::make(T_ref_cur, camera, tracking::PhotometricOptions{}));
+        tracking::PhotometricParams::make(T_ref_cur, camera, tracking::PhotometricOptions{}, level));
   }
 
   int levels() const { return stage_->levels(); }

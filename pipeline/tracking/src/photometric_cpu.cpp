@@ -1,6 +1,7 @@
 #include "vifusion/tracking/photometric_cpu.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 
 #include "pose_and_camera.hpp"
@@ -45,6 +46,17 @@ NormalEquations6 photometricNormalEquationsCpu(ImageView<const preprocess::Verte
       const Vector2f gradient = w00 * reference_gradients(x0, y0) + w10 * reference_gradients(x0 + 1, y0) +
                                 w01 * reference_gradients(x0, y0 + 1) + w11 * reference_gradients(x0 + 1, y0 + 1);
       if (gradient.squaredNorm() < params.min_gradient * params.min_gradient) continue;
+      bool supported = true;
+      for (int dy = 1 - params.support_radius_px; dy <= params.support_radius_px && supported; ++dy) {
+        const int row = std::clamp(y0 + dy, 0, params.height - 1);
+        for (int dx = 1 - params.support_radius_px; dx <= params.support_radius_px; ++dx) {
+          if (!(reference_vertices(std::clamp(x0 + dx, 0, params.width - 1), row).z() > 0.0f)) {
+            supported = false;
+            break;
+          }
+        }
+      }
+      if (!supported) continue;
 
       const float r = intensity - current_intensity(px, py);
       const Vector3f g(gradient.x() * params.fx * inv_z, gradient.y() * params.fy * inv_z,

@@ -25,7 +25,7 @@ void PhotometricOptions::validate() const {
 }
 
 PhotometricParams PhotometricParams::make(const SE3d& T_ref_cur, const PinholeCamera& camera,
-                                          const PhotometricOptions& options) {
+                                          const PhotometricOptions& options, int level) {
   PhotometricParams params;
   setPoseAndCamera(params, T_ref_cur, camera);
   params.sigma_intensity = options.sigma_intensity;
@@ -33,6 +33,7 @@ PhotometricParams PhotometricParams::make(const SE3d& T_ref_cur, const PinholeCa
   params.min_gradient = options.min_gradient;
   params.max_depth_difference_m = options.max_depth_difference_m;
   params.sigma_position_px = options.sigma_position_px;
+  params.support_radius_px = level > 0 ? 3 : 2;
   return params;
 }
 

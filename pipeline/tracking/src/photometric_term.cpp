@@ -22,7 +22,7 @@ void PhotometricTerm::build(const gpu::MemoryArena& arena, std::span<const Photo
 }
 
 void PhotometricTerm::setPose(int level, const SE3d& T_ref_cur, const PinholeCamera& camera) const {
-  const PhotometricParams params = PhotometricParams::make(T_ref_cur, camera, options_);
+  const PhotometricParams params = PhotometricParams::make(T_ref_cur, camera, options_, level);
   reduction_.writeParams(level, &params);
 }
 

@@ -13,7 +13,7 @@ struct PhotometricParams {
   float min_gradient;          // ‖∇I_ref‖ below this carries no information [intensity/px]
   float max_depth_difference_m;  // occlusion gate |q.z − z_ref| [m]
   float sigma_position_px;     // positional σ of the reference image [px]: adds (σ_px·‖∇I_ref‖)² to σ_I²
-  float pad0;
+  int support_radius_px;       // reference depth must be valid on [x0−r+1, x0+r]² around the sample's cell
 };
 
 #endif

@@ -39,13 +39,22 @@ struct PhotometricParams {
   float min_gradient = 0;
   float max_depth_difference_m = 0;
   float sigma_position_px = 0;
-  float pad0 = 0;
+  /// The reference pixels a sample at cell (x0, y0) depends on are [x0−r+1, x0+r]² (r = this): the
+  /// bilinear 2×2, widened by the gradient's 3×3 Sobel (r = 2) and at coarse levels by the Gaussian
+  /// pyramid that built the reference intensity from level 0 (r = 3). All of them must lie on valid
+  /// model pixels: a hole of the prediction has intensity 0, so its border is an edge that the scene
+  /// does not have (measured on sim:living_room_1 frame 186, 49 % of the view unpredicted: it pulled
+  /// level 2 by 136 mm along the wall and started the run-away).
+  std::int32_t support_radius_px = 0;
 
-  static PhotometricParams make(const SE3d& T_ref_cur, const PinholeCamera& camera, const PhotometricOptions& options);
+  /// `level` is the pyramid level of `camera` (0 = full resolution); it sets support_radius_px.
+  static PhotometricParams make(const SE3d& T_ref_cur, const PinholeCamera& camera, const PhotometricOptions& options,
+                                int level = 0);
 };
 static_assert(sizeof(PhotometricParams) == 24 * 4);
 static_assert(offsetof(PhotometricParams, width) == 64);
 static_assert(offsetof(PhotometricParams, max_depth_difference_m) == 84);
 static_assert(offsetof(PhotometricParams, sigma_position_px) == 88);
+static_assert(offsetof(PhotometricParams, support_radius_px) == 92);
 
 }  // namespace vifusion::tracking

@@ -6,9 +6,9 @@
 
 #include "vifusion/core/error.hpp"
 #include "vifusion/shaders/spirv.hpp"
+#include "vifusion/tracking/icp_degeneracy.hpp"
 
 namespace vifusion::slam {
-
 void TrackerOptions::validate() const {
   if (levels < 1 || levels > 3) throw Error("tracker option 'levels' must be 1..3");
   for (int l = 0; l < levels; ++l) {
@@ -18,6 +18,13 @@ void TrackerOptions::validate() const {
   if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction < 1.0)) {
     throw Error("tracker option 'min_inlier_fraction' must be in [0, 1)");
   }
+  if (!(min_icp_constraint_share >= 0.0 && min_icp_constraint_share < 1.0 / 3.0)) {
+    throw Error("tracker option 'min_icp_constraint_share' must be in [0, 1/3)");
+  }
+  if (!(motion_prior_sigma_m > 0.0) || !(motion_prior_sigma_rad > 0.0)) {
+    throw Error("tracker options 'motion_prior_sigma_m' and 'motion_prior_sigma_rad' must be > 0");
+  }
+  if (!(max_motion_innovation_m > 0.0)) throw Error("tracker option 'max_motion_innovation_m' must be > 0");
   icp.validate();
   photometric.validate();
 }
@@ -138,19 +145,34 @@ NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, Tracki
 
 NormalEquations6 DenseTracker::icpEquations(int level) const { return icp_->result(level); }
 
+// Gauss-Newton coarse to fine over the dense terms plus a weak constant-velocity prior on the change
+// from the guess (r = log(T_ref_cur·guess⁻¹), Jacobian ≈ I), which holds what no term determines; at
+// the coarse levels the ICP's degenerate translation directions are left to the other two.
 TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
   TrackingResult result;
   result.T_ref_cur = T_ref_cur_guess;
   SE3d T_ref_cur = T_ref_cur_guess;
+  Vector6d prior_information;
+  prior_information << Eigen::Vector3d::Constant(1.0 / (options_.motion_prior_sigma_m * options_.motion_prior_sigma_m)),
+      Eigen::Vector3d::Constant(1.0 / (options_.motion_prior_sigma_rad * options_.motion_prior_sigma_rad));
   for (int l = options_.levels - 1; l >= 0; --l) {
     for (int i = 0; i < options_.iterations[l]; ++i) {
-      const NormalEquations6 system = evaluate(l, T_ref_cur, result);
-      const Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt(system.H);
-      if (ldlt.info() != Eigen::Success || system.inliers < 6.0) {
+      NormalEquations6 system = evaluate(l, T_ref_cur, result);
+      if (system.inliers < 6.0) {
         result.lost = true;
         return result;
       }
-      const Vector6d delta = ldlt.solve(-system.b);
+      if (l > 0) tracking::removeUnconstrainedIcpDirections(icp_->result(l), options_.min_icp_constraint_share, system);
+      Matrix6d H = system.H;
+      Vector6d b = system.b;
+      H.diagonal() += prior_information;
+      b += prior_information.cwiseProduct((T_ref_cur * T_ref_cur_guess.inverse()).log());
+      const Eigen::LDLT<Matrix6d> ldlt(H);
+      if (ldlt.info() != Eigen::Success) {
+        result.lost = true;
+        return result;
+      }
+      const Vector6d delta = ldlt.solve(-b);
       if (!delta.allFinite()) {
         result.lost = true;
         return result;
@@ -161,7 +183,10 @@ TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
       if (delta.head<3>().norm() < options_.converged_step && delta.tail<3>().norm() < options_.converged_step) break;
     }
   }
-  if (!healthy(result)) {
+  // A correction of the constant-velocity guess that no camera could make (max_motion_innovation_m)
+  // is the pose sliding, not the camera moving.
+  const double innovation_m = (T_ref_cur * T_ref_cur_guess.inverse()).translation().norm();
+  if (!(innovation_m <= options_.max_motion_innovation_m) || !healthy(result)) {
     result.lost = true;
     return result;
   }

@@ -36,7 +36,31 @@ struct TrackerOptions {
   /// Tracking is lost when fewer than this fraction of the level-0 pixels with valid depth end up
   /// as ICP inliers (the rest fell outside the reference view or failed the gates).
   double min_inlier_fraction = 0.2;
-
+  /// ICP degeneracy at the coarse levels. The point-to-plane term constrains translation only along
+  /// the normals of the surfaces in view: two planes (wall and ceiling) leave their common direction
+  /// free, yet noisy normals give it a formal information that looks decisive, while the residuals of
+  /// quantised depth are biased along it (sim:living_room_1 at 320×240, frame 187: level 2 moved
+  /// 23 mm in one step where the full-resolution terms are flat, out of the photometric term's basin,
+  /// and the pose ran away). At levels ≥ 1 a translation direction e is therefore left to the
+  /// photometric term and the motion prior when the surfaces give it less than this share of the ICP
+  /// weight, Σw(n·e)²/Σw (the smallest eigenvalue of the ICP's translation block over its trace: 1/3
+  /// in a box corner, 0 for one plane; on that view noisy normals alone give 0.004–0.009, with a third
+  /// wall in the model 0.07–0.18; for one plane the rotation about its normal goes too: the rule of
+  /// tracking/icp_degeneracy.hpp, which rgbdi applies at every level). Level 0 keeps all of it here:
+  /// RGB-D alone has no IMU to carry those directions, and on clean data a small share is real
+  /// information (a noise-free pan of the living room sees 0.001–0.017 and needs it for 3 mm).
+  double min_icp_constraint_share = 0.02;
+  /// Constant-velocity motion prior, per axis of the pose change from the guess [m], [rad]: holds the
+  /// directions no dense term determines; far weaker than the data in every other direction.
+  double motion_prior_sigma_m = 0.01;
+  double motion_prior_sigma_rad = 0.01;
+  /// Tracking is lost when the estimate corrects the constant-velocity guess by more than this [m]
+  /// in one frame: 5 cm per frame at 30 Hz is an acceleration of 45 m/s², far beyond a hand-held or
+  /// robot camera (the living_room paths need ≤ 1.7 mm), while a pose sliding along a direction the
+  /// data do not pin down gains 26–110 mm per frame (sim:living_room_1 frames 186–191 before the
+  /// fixes of issue 4). Such a frame keeps the guess and is not fused, and the velocity is reset, so
+  /// the run-away stops instead of corrupting the map (ElasticFusion: a 0.3 m jump is rejected).
+  double max_motion_innovation_m = 0.05;
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
 };

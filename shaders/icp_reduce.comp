@@ -6,6 +6,7 @@
 // reference (model) view; the model vertex v and normal n there (reference camera frame) give
 //   r = nᵀ(q − v),   J = ∂r/∂δ = [nᵀ, (q × n)ᵀ]   for T_ref_cur ← exp(δ)·T_ref_cur, δ = [ρ, φ].
 // Gates: both vertices valid, ‖q − v‖ ≤ max_distance_m, ‖R·n_cur × n‖ ≤ max_normal_sin.
+// Candidates (the health ratio's denominator): pixels whose vertex lands on a valid model pixel.
 // Weight: 1/σ_z(p.z)² (Kinect-style axial depth noise) times a Huber weight on r/σ_z.
 //
 // binding 0: current vertices  vec4[w·h]  (x, y, z, 1) camera frame [m], vec4(0) invalid
@@ -34,7 +35,6 @@ layout(std430, binding = 5) restrict writeonly buffer Partials { float partials[
 void neAddItem(inout float acc[NE_TERMS], int i) {
   const vec4 p = cur_vertices[i];
   if (!(p.z > 0.0)) return;
-  neCountCandidate(acc);
   const vec3 q = vec3(dot(params.T_ref_cur_rows[0], vec4(p.xyz, 1.0)), dot(params.T_ref_cur_rows[1], vec4(p.xyz, 1.0)),
                       dot(params.T_ref_cur_rows[2], vec4(p.xyz, 1.0)));
   if (!(q.z > 0.0)) return;
@@ -47,6 +47,9 @@ void neAddItem(inout float acc[NE_TERMS], int i) {
   const vec4 model_n = model_normals[j];
   const vec4 cur_n = cur_normals[i];
   if (!(model_v.z > 0.0) || model_n.w == 0.0 || cur_n.w == 0.0) return;
+  // A candidate is a pixel that has something to associate with: the health ratio then measures
+  // alignment, not how much of the view the map already covers.
+  neCountCandidate(acc);
   const vec3 diff = q - model_v.xyz;
   if (dot(diff, diff) > params.max_distance_m * params.max_distance_m) return;
   const vec3 rotated_n = vec3(dot(params.T_ref_cur_rows[0].xyz, cur_n.xyz), dot(params.T_ref_cur_rows[1].xyz, cur_n.xyz),

@@ -19,7 +19,6 @@ NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> 
     for (int x = 0; x < params.width; ++x) {
       const Vector4f& p = current_vertices(x, y);
       if (!(p.z() > 0.0f)) continue;
-      sum.addCandidate();
       const Vector3f q = T_ref_cur.point(p);
       if (!(q.z() > 0.0f)) continue;
       const int u = static_cast<int>(std::floor(params.fx * q.x() / q.z() + params.cx + 0.5f));
@@ -29,6 +28,7 @@ NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> 
       const Vector4f& model_n = model_normals(u, v);
       const Vector4f& cur_n = current_normals(x, y);
       if (!(model_v.z() > 0.0f) || model_n.w() == 0.0f || cur_n.w() == 0.0f) continue;
+      sum.addCandidate();
       const Vector3f diff = q - model_v.head<3>();
       if (diff.squaredNorm() > params.max_distance_m * params.max_distance_m) continue;
       const Vector3f rotated_n = T_ref_cur.direction(cur_n.head<3>());

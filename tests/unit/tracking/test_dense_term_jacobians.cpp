@@ -180,6 +180,29 @@ SE3d alignPhotometric(const PinholeCamera& camera, const View& reference, const 
 // frame does not have. Sampling across it biased the alignment (sim:living_room_1 frame 186: 136 mm
 // at the coarsest level, with half of the view unpredicted). The support gate must keep those
 // samples out, and the term must then find the true motion as on a complete reference.
+// The tracking-health ratio is ICP inliers over candidates; a candidate must be a pixel that lands on
+// the model prediction, so that a view half outside the map (a fast turn into unmapped space) still
+// reads as aligned, while a misaligned view does not.
+TEST(DenseTermAlignment, IcpCandidatesArePixelsThatLandOnTheModel) {
+  const PinholeCamera camera = PinholeCamera::create(80, 60, 70.0, 70.0, 39.5, 29.5);
+  View reference = render(camera, SE3d(), 0);
+  const View current = render(camera, SE3d(), 0);
+  for (int v = 0; v < camera.height; ++v) {
+    for (int u = camera.width / 2; u < camera.width; ++u) reference.vertices(u, v) = VertexPixel::Zero();
+  }
+  const auto equations = [&](const SE3d& T_ref_cur) {
+    return icpNormalEquationsCpu(current.vertices.view(), current.normals.view(), reference.vertices.view(),
+                                 reference.normals.view(), IcpParams::make(T_ref_cur, camera, IcpOptions{}));
+  };
+  const NormalEquations6 aligned = equations(SE3d());
+  EXPECT_EQ(aligned.candidates, camera.width * camera.height / 2);
+  EXPECT_EQ(aligned.inliers, aligned.candidates);
+  // 0.3 m off along the optical axis: every pixel still lands on the model, none within the 10 cm gate.
+  const NormalEquations6 misaligned = equations(SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 0.0, 0.3)));
+  EXPECT_GT(misaligned.candidates, 0.3 * camera.width * camera.height);
+  EXPECT_EQ(misaligned.inliers, 0.0);
+}
+
 TEST(DenseTermAlignment, PhotometricIgnoresTheBordersOfHolesInTheReference) {
   const PinholeCamera camera = PinholeCamera::create(160, 120, 140.0, 140.0, 79.5, 59.5);
   const SE3d T_ref_cur_true =

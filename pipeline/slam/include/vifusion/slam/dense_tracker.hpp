@@ -33,8 +33,12 @@ struct TrackerOptions {
   preprocess::PreprocessOptions preprocess;
   tracking::IcpOptions icp;
   tracking::PhotometricOptions photometric;
-  /// Tracking is lost when fewer than this fraction of the level-0 pixels with valid depth end up
-  /// as ICP inliers (the rest fell outside the reference view or failed the gates).
+  /// Tracking is lost when fewer than this fraction of the level-0 pixels that land on the model
+  /// prediction pass the ICP gates. Pixels that see what the map does not hold yet do not count:
+  /// a fast camera turns into unmapped space faster than new surfels become stable, and counting
+  /// them declared aligned frames lost, which then were not fused, so the map never grew into the
+  /// new view (sim:fast at 640×480, RGB-D-inertial: 403 of 601 frames lost, ATE 453 mm; the
+  /// aligned share of the covered pixels never fell below 0.5 there: 0 lost, 14.3 mm).
   double min_inlier_fraction = 0.2;
   /// ICP degeneracy at the coarse levels. The point-to-plane term constrains translation only along
   /// the normals of the surfaces in view: two planes (wall and ceiling) leave their common direction
@@ -70,7 +74,7 @@ struct TrackingResult {
   SE3d T_ref_cur;            ///< estimated pose of the current camera in the reference camera
   bool lost = false;         ///< too few inliers or a degenerate system: T_ref_cur is the guess
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
-  double icp_candidates = 0.0;  ///< level-0 pixels with valid depth (the inliers' denominator)
+  double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction (the inliers' denominator)
   double rgb_inliers = 0.0;  ///< level-0 photometric inliers of the last iteration
   int iterations = 0;        ///< Gauss-Newton iterations run over all levels
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();  ///< last level-0 system (information)

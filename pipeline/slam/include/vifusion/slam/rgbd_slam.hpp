@@ -66,7 +66,7 @@ struct FrameResult {
   SE3d T_W_C;                   ///< camera pose in the map world (first camera frame)
   bool lost = false;            ///< tracking failed: the pose is the constant-velocity prediction, not fused
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
-  double icp_candidates = 0.0;  ///< level-0 pixels with valid depth
+  double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction
   double rgb_inliers = 0.0;     ///< level-0 photometric inliers of the last iteration
   int iterations = 0;           ///< Gauss-Newton iterations over all levels
   uint32_t surfels = 0;         ///< surfels in the map after this frame

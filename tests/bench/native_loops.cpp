@@ -1,5 +1,6 @@
 #include "native_loops.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace vifusion::bench {
@@ -15,6 +16,20 @@ inline void accumulate(const float J[6], float r, float w, NativeSums& sums) {
   }
   sums[27] += double(w) * r * r;
   sums[28] += 1.0;
+}
+
+/// The shader's support gate: every reference pixel of [x0−r+1, x0+r]² (clamped to the image) has
+/// a predicted vertex.
+inline bool supportedByModel(const preprocess::VertexPixel* reference_vertices, const tracking::PhotometricParams& params,
+                             int x0, int y0) {
+  const int r = params.support_radius_px;
+  for (int dy = 1 - r; dy <= r; ++dy) {
+    const int row = std::clamp(y0 + dy, 0, params.height - 1) * params.width;
+    for (int dx = 1 - r; dx <= r; ++dx) {
+      if (!(reference_vertices[row + std::clamp(x0 + dx, 0, params.width - 1)].z() > 0.0f)) return false;
+    }
+  }
+  return true;
 }
 
 }  // namespace
@@ -95,6 +110,7 @@ void photometricNative(const preprocess::VertexPixel* current_vertices, const fl
                      w01 * reference_gradients[j + w].y() + w11 * reference_gradients[j + w + 1].y();
     const float gradient_sq = gx * gx + gy * gy;
     if (gradient_sq < min_gradient_sq) continue;
+    if (!supportedByModel(reference_vertices, params, x0, y0)) continue;
     const float r = intensity - current_intensity[i];
     const float g0 = gx * params.fx * inv_z, g1 = gy * params.fy * inv_z;
     const float g2 = -(gx * params.fx * qx + gy * params.fy * qy) * inv_z * inv_z;

@@ -28,7 +28,8 @@ void icpNative(const preprocess::VertexPixel* current_vertices, const preprocess
                const tracking::IcpParams& params, int begin, int end, NativeSums& sums);
 
 /// photometric_reduce.comp's work over pixels [begin, end): projection, occlusion gate, bilinear
-/// intensity and gradient, J = [g, q × g], Huber weight on σ² = σ_I² + σ_px²‖∇I‖².
+/// intensity and gradient, support gate (no hole of the prediction under the sample), J = [g, q × g],
+/// Huber weight on σ² = σ_I² + σ_px²‖∇I‖².
 void photometricNative(const preprocess::VertexPixel* current_vertices, const float* current_intensity,
                        const float* reference_intensity, const preprocess::GradientPixel* reference_gradients,
                        const preprocess::VertexPixel* reference_vertices, const tracking::PhotometricParams& params,

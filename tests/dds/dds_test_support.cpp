@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "vifusion/test/dds_domains.hpp"
+
 extern char** environ;
 
 namespace vifusion::dds::test {
@@ -32,7 +34,7 @@ std::string readFile(const std::filesystem::path& path) {
 
 ParticipantOptions loopbackOptions() {
   ParticipantOptions options;
-  options.domain_id = std::uniform_int_distribution<std::uint32_t>(1, 200)(generator());
+  options.domain_id = vifusion::test::randomSharedDomain(generator());
   options.config = VIFUSION_DDS_LOOPBACK_CONFIG;
   options.partition = "vifusion_test_" + std::to_string(::getpid()) + "_" + std::to_string(generator()());
   return options;

@@ -1,0 +1,29 @@
+#pragma once
+// The benchmark's sequence: the first --frames frames of sim:living_room_0 at one size, generated
+// once by `vifusion sim` into --data_dir and decoded into memory once per size.
+
+#include <string>
+#include <vector>
+
+#include "vifusion/core/rig_calibration.hpp"
+#include "vifusion/core/sensor_data.hpp"
+#include "vifusion/eval/trajectory_io.hpp"
+#include "bench_options.hpp"
+
+namespace vifusion::bench {
+
+/// One size of the living-room sequence in memory, with the ground truth at every frame.
+struct Sequence {
+  RigCalibration calibration;
+  std::vector<RgbdFrame> frames;
+  std::vector<eval::StampedPose> ground_truth;  ///< T_world_camera at each frame's stamp, in frame order
+  std::string describe;
+};
+
+/// The sequence of `size` (generated if missing or short; cached for the process's lifetime).
+const Sequence& sequenceFor(const Size& size);
+
+/// With --trajectory_dir, writes `trajectory` as <dir>/<name>.txt (TUM) for `vifusion eval --plots`.
+void writeTrajectory(const std::string& name, const std::vector<eval::StampedPose>& trajectory);
+
+}  // namespace vifusion::bench

@@ -3,7 +3,8 @@
 // function of the map, the index map and the frame number, checked in this order:
 //   1. INACTIVE (not updated within δ_t): always kept — they are the loop-closure memory — unless
 //      the map is full (surfel_count > full_count, 0.95·capacity) and the surfel's confidence is
-//      below eviction_confidence: then it is evicted (the least useful memory goes first).
+//      below eviction_confidence or it was last updated more than eviction_age_frames ago: then
+//      it is evicted (never-stable memory first, then the oldest; MapMaintenance sets the age).
 //   2. UNSTABLE (confidence < threshold) and not updated for more than unstable_max_age frames:
 //      removed (a one-off measurement that nothing confirmed).
 //   3. FREE-SPACE VIOLATION: an active surfel in view (0 < z ≤ max depth), facing the camera
@@ -83,7 +84,7 @@ void main() {
     const uint age = framesSince(p.view, surfel.colour_times.z);
     uint flag = 1u;
     if (age > p.time_window_frames) {
-      if (count > p.full_count && confidence < p.eviction_confidence) {
+      if (count > p.full_count && (confidence < p.eviction_confidence || age > p.eviction_age_frames)) {
         flag = 0u;
         atomicAdd(stats.evicted_when_full, 1u);
       }

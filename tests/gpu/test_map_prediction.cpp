@@ -439,17 +439,19 @@ void nearestCentreIndexMap(std::span<const Surfel> surfels, const map::MapView& 
   }
 }
 
-enum class Kind { Wall, Floater, OldUnstable, Inactive, InactiveUnstable };
+enum class Kind { Wall, Floater, OldUnstable, Inactive, InactiveUnstable, InactiveOld };
 
-TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndNeverRemovesInactiveSurfels) {
+// Inactive surfels stay unless the map is full; then the never-stable ones go and, by the map-full
+// policy's age (half the run on the first full frame: 500 of kFrame = 1000), the old stable ones.
+TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndEvictsInactiveSurfelsOnlyWhenFull) {
   const test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
   const std::vector<Surfel> wall = surfelsFromFrame(frame, frameGeometry(frame), 20.0f);
   const Eigen::Vector3f camera_W = frame.T_W_C.translation().cast<float>();
-  // Every 20th wall surfel gets one of four companions 20 cm in front of it.
+  // Every 20th wall surfel gets one of five companions 20 cm in front of it.
   std::vector<Surfel> surfels = wall;
   std::vector<Kind> kinds(wall.size(), Kind::Wall);
   for (std::size_t i = 0; i < wall.size(); i += 20) {
-    const auto kind = static_cast<Kind>(1 + (i / 20) % 4);
+    const auto kind = static_cast<Kind>(1 + (i / 20) % 5);
     Surfel s = movedToward(wall[i], camera_W, 0.20f);
     if (kind == Kind::Floater) s.colour_times.z() = static_cast<float>(kFrame - 5);
     if (kind == Kind::OldUnstable) {
@@ -458,22 +460,25 @@ TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndNeverRemovesInactiveSurfels) {
     }
     if (kind == Kind::Inactive || kind == Kind::InactiveUnstable) s.colour_times.z() = static_cast<float>(kFrame - 250);
     if (kind == Kind::InactiveUnstable) s.position_confidence.w() = 1.0f;
+    if (kind == Kind::InactiveOld) s.colour_times.z() = static_cast<float>(kFrame - 600);
     surfels.push_back(s);
     kinds.push_back(kind);
   }
   const SE3d T_C_W = frame.T_W_C.inverse();
 
-  // Roomy map first, then one over 95 % full, where inactive unstable surfels are evicted.
+  // Roomy map first, then one over 95 % full, where inactive unstable and old surfels are evicted.
   for (const std::uint32_t capacity : {400'000u, static_cast<std::uint32_t>(surfels.size() * 1.02)}) {
     SCOPED_TRACE("capacity " + std::to_string(capacity));
     MapRig rig(context(), capacity, frame.camera);
-    const map::CleanupParams params = rig.maintenance().makeParams(T_C_W, kFrame);
-    const bool full = surfels.size() > params.full_count;
+    const map::MapView view = rig.maintenance().makeParams(T_C_W, kFrame).view;
     Image<std::uint32_t> index_depth, index_id;
-    nearestCentreIndexMap(surfels, params.view, params.time_window_frames, index_depth, index_id);
+    nearestCentreIndexMap(surfels, view, map::MapOptions{}.time_window_frames, index_depth, index_id);
     rig.writeIndexMap(index_depth.view(), index_id.view());
     rig.writeMap(surfels);
-    rig.cleanup(T_C_W);
+    rig.cleanup(T_C_W);  // the map-full policy's first frame at this count
+    const map::CleanupParams params = rig.maintenance().makeParams(T_C_W, kFrame);
+    const bool full = surfels.size() > params.full_count;
+    EXPECT_EQ(params.eviction_age_frames, full ? kFrame / 2 : map::kNoAgeEviction);
 
     std::vector<std::uint32_t> keep(surfels.size());
     map::MaintenanceStats expected;
@@ -481,7 +486,7 @@ TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndNeverRemovesInactiveSurfels) {
     EXPECT_TRUE(std::equal(keep.begin(), keep.end(), rig.keep().begin()));
     EXPECT_EQ(rig.maintenance().stats(), expected);
 
-    std::size_t removed[5] = {}, total[5] = {}, facing_floaters = 0;
+    std::size_t removed[6] = {}, total[6] = {}, facing_floaters = 0;
     for (std::size_t i = 0; i < surfels.size(); ++i) {
       ++total[int(kinds[i])];
       removed[int(kinds[i])] += keep[i] == 0u ? 1 : 0;
@@ -490,6 +495,8 @@ TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndNeverRemovesInactiveSurfels) {
     }
     EXPECT_EQ(removed[int(Kind::Inactive)], 0u);
     EXPECT_EQ(removed[int(Kind::InactiveUnstable)], full ? total[int(Kind::InactiveUnstable)] : 0u);
+    EXPECT_EQ(removed[int(Kind::InactiveOld)], full ? total[int(Kind::InactiveOld)] : 0u);
+    EXPECT_EQ(expected.evicted_when_full, full ? total[int(Kind::InactiveUnstable)] + total[int(Kind::InactiveOld)] : 0u);
     EXPECT_EQ(removed[int(Kind::OldUnstable)], total[int(Kind::OldUnstable)]);
     // Floaters are only tested when they face the camera; nearly all of those are seen through.
     EXPECT_LE(removed[int(Kind::Floater)], facing_floaters);
@@ -500,8 +507,14 @@ TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndNeverRemovesInactiveSurfels) {
               << facing_floaters << " of " << total[int(Kind::Floater)] << "), wall " << removed[int(Kind::Wall)] << "/"
               << total[int(Kind::Wall)] << "\n";
 
-    // The whole maintenance step: cleanup then compaction into array 1.
+    // The whole maintenance step: cleanup then compaction into array 1. A second frame at this count:
+    // a full map halves the eviction age (250 frames), which still spares Kind::Inactive (age 250).
     rig.maintain(T_C_W);
+    const map::CleanupParams second = rig.maintenance().makeParams(T_C_W, kFrame);
+    EXPECT_EQ(second.eviction_age_frames, full ? kFrame / 4 : map::kNoAgeEviction);
+    map::MaintenanceStats second_stats;
+    map::cleanupCpu(surfels, second, index_depth.view(), index_id.view(), keep, second_stats);
+    EXPECT_EQ(second_stats, expected);
     std::vector<Surfel> compacted(surfels.size());
     const std::uint32_t kept = map::compactCpu(surfels, keep, compacted);
     ASSERT_EQ(rig.count(), kept);

@@ -1,5 +1,6 @@
 #include "vifusion/map/maintenance_cpu.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
@@ -44,6 +45,12 @@ bool violatesFreeSpace(std::size_t i, const Surfel& surfel, std::span<const Surf
 
 }  // namespace
 
+std::uint32_t nextEvictionAge(std::uint32_t age_frames, std::uint32_t surfel_count, std::uint32_t full_count,
+                              std::uint32_t frame, std::uint32_t time_window_frames) {
+  if (surfel_count <= full_count) return kNoAgeEviction;
+  return std::max(time_window_frames, std::min(age_frames, frame) / 2);
+}
+
 void cleanupCpu(std::span<const Surfel> surfels, const CleanupParams& params, ImageView<const std::uint32_t> index_depth,
                 ImageView<const std::uint32_t> index_id, std::span<std::uint32_t> keep, MaintenanceStats& stats) {
   const auto count = static_cast<std::uint32_t>(surfels.size());
@@ -53,7 +60,7 @@ void cleanupCpu(std::span<const Surfel> surfels, const CleanupParams& params, Im
     const std::uint32_t age = framesSinceCpu(params.view, surfel.colour_times.z());
     std::uint32_t flag = 1;
     if (age > params.time_window_frames) {
-      if (count > params.full_count && confidence < params.eviction_confidence) {
+      if (count > params.full_count && (confidence < params.eviction_confidence || age > params.eviction_age_frames)) {
         flag = 0;
         ++stats.evicted_when_full;
       }

@@ -120,6 +120,10 @@ void MapMaintenance::build(const gpu::MemoryArena& arena) {
   k.finish_set = k.finish->bind({buffer(state_), buffer(tile_sums_.back()), buffer(stats_)});
 }
 
+std::uint32_t MapMaintenance::fullCount() const {
+  return static_cast<std::uint32_t>(std::floor(double{options_.full_fraction} * map_options_.capacity));
+}
+
 CleanupParams MapMaintenance::makeParams(const SE3d& T_C_W, std::uint32_t frame) const {
   CleanupParams params;
   params.view = MapView::make(T_C_W, camera_, frame);
@@ -130,12 +134,17 @@ CleanupParams MapMaintenance::makeParams(const SE3d& T_C_W, std::uint32_t frame)
   params.free_space_margin_m = options_.free_space_margin_m;
   params.facing_min_abs_nz = options_.facing_min_abs_nz;
   params.free_space_min_neighbours = options_.free_space_min_neighbours;
-  params.full_count = static_cast<std::uint32_t>(std::floor(double{options_.full_fraction} * map_options_.capacity));
+  params.full_count = fullCount();
   params.eviction_confidence = options_.eviction_confidence;
+  params.eviction_age_frames = eviction_age_frames_;
   return params;
 }
 
-void MapMaintenance::setView(const SE3d& T_C_W, std::uint32_t frame) const {
+void MapMaintenance::setView(const SE3d& T_C_W, std::uint32_t frame) {
+  MapState state;
+  std::memcpy(&state, arena_->buffer(state_).mapped, sizeof(state));
+  eviction_age_frames_ =
+      nextEvictionAge(eviction_age_frames_, state.surfel_count, fullCount(), frame, map_options_.time_window_frames);
   const CleanupParams params = makeParams(T_C_W, frame);
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
 }

@@ -15,7 +15,8 @@ struct CleanupParams {
   uint free_space_min_neighbours;  // removed when at least this many neighbours agree
   uint full_count;                 // the map is full when surfel_count > this
   float eviction_confidence;       // when full, inactive surfels below this confidence go
-  uint pad0, pad1, pad2;
+  uint eviction_age_frames;        // and when full, inactive surfels not updated for longer go too
+  uint pad0, pad1;
 };
 
 // Maintenance counters of one frame (MaintenanceStats on the host).

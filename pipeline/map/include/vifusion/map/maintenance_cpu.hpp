@@ -26,19 +26,34 @@ struct CleanupParams {
   std::uint32_t free_space_min_neighbours = 0;  ///< removed when ≥ this many neighbours agree
   std::uint32_t full_count = 0;              ///< the map is full when surfel_count > this
   float eviction_confidence = 0;             ///< when full, inactive surfels below this go
-  std::uint32_t pad[3] = {};
+  /// When full, inactive surfels not updated for more than this many frames go too (nextEvictionAge).
+  std::uint32_t eviction_age_frames = 0;
+  std::uint32_t pad[2] = {};
 };
 static_assert(sizeof(CleanupParams) == 144);
 static_assert(offsetof(CleanupParams, confidence_threshold) == 96);
 static_assert(offsetof(CleanupParams, full_count) == 124);
 static_assert(offsetof(CleanupParams, eviction_confidence) == 128);
+static_assert(offsetof(CleanupParams, eviction_age_frames) == 132);
+
+/// eviction_age_frames when nothing is evicted for its age.
+inline constexpr std::uint32_t kNoAgeEviction = 0xFFFFFFFFu;
+
+/// The map-full policy's age limit for the next frame. A map that ended the last frame above its
+/// full mark (surfel_count > full_count) evicts its inactive surfels oldest first: the first full
+/// frame those not updated in the newer half of the run (age > frame / 2), and each further full
+/// frame halves the age, down to the time window (every inactive surfel); a map below the mark
+/// evicts nothing for age (kNoAgeEviction). Inactive surfels are neither rendered nor fused, so
+/// tracking never misses them; what goes is the oldest loop-closure memory.
+std::uint32_t nextEvictionAge(std::uint32_t age_frames, std::uint32_t surfel_count, std::uint32_t full_count,
+                              std::uint32_t frame, std::uint32_t time_window_frames);
 
 /// Counters of one maintenance pass (VIFUSION_MAINTENANCE_STATS_MEMBERS in cleanup.glsl).
 struct MaintenanceStats {
   std::uint32_t kept = 0;                ///< surfels after compaction
   std::uint32_t removed_unstable = 0;    ///< unstable and not updated for too long
   std::uint32_t removed_free_space = 0;  ///< seen through this frame
-  std::uint32_t evicted_when_full = 0;   ///< inactive, low-confidence, map over its full mark
+  std::uint32_t evicted_when_full = 0;   ///< inactive, never stable or old, map over its full mark
   bool operator==(const MaintenanceStats&) const = default;
 };
 static_assert(sizeof(MaintenanceStats) == 16);

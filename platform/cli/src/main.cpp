@@ -35,6 +35,10 @@ int main(int argc, char** argv) {
   run->add_option("--device", run_options.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
   run->add_option("--frames", run_options.max_frames, "Stop after this many frames (0: all)")->capture_default_str();
   run->add_flag("!--no-photometric", run_options.photometric, "Track with ICP only");
+  run->add_option("--map-capacity", run_options.map_capacity,
+                  "Surfels the map holds (fixed GPU memory, about 110 bytes a surfel: report.json arena_bytes)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u << 16, 1u << 26));
 
   vifusion::cli::EvalOptions eval;
   CLI::App* eval_command = app.add_subcommand(

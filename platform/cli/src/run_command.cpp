@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "frame_log.hpp"
 #include "progress_bar.hpp"
 #include "sim_command.hpp"
 #include "vifusion/core/error.hpp"
@@ -43,6 +44,7 @@ int runPipeline(const RunOptions& options) {
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(options.mode);
   slam_options.tracker.use_photometric = options.photometric;
+  slam_options.map.capacity = options.map_capacity;
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
   const auto reader = datasets::openDataset(datasetSpec(options));
@@ -61,6 +63,7 @@ int runPipeline(const RunOptions& options) {
   trajectory.reserve(total);
   std::vector<eval::StateRecord> states;
   states.reserve(inertial ? total : 0);
+  FrameLog frame_log(total);
   int imu_issues = 0;
   RgbdFrame frame;
   int lost = 0;
@@ -71,6 +74,7 @@ int runPipeline(const RunOptions& options) {
   while (trajectory.size() < total && reader->nextFrame(frame)) {
     const slam::FrameResult result = pipeline.process(frame, reader->imu());
     trajectory.push_back({result.t_ns, result.T_W_C});
+    frame_log.add(result);
     if (result.inertial) states.push_back({result.t_ns, result.state, result.state_variance});
     if (result.imu_issue && ++imu_issues <= 10) {  // the report counts them all
       std::fprintf(stderr, "vifusion run: frame %lld: IMU not used: %s\n", static_cast<long long>(frame.index),
@@ -92,6 +96,7 @@ int runPipeline(const RunOptions& options) {
   eval::writeTum(trajectory_path.string() + ".tmp", trajectory);
   std::filesystem::rename(trajectory_path.string() + ".tmp", trajectory_path);
 
+  frame_log.write(std::filesystem::path(options.out) / "frames.csv");
   if (inertial) {
     const std::filesystem::path states_path = std::filesystem::path(options.out) / "states.csv";
     eval::writeEstimatedStates(states_path.string() + ".tmp", states);

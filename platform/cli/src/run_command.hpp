@@ -3,7 +3,10 @@
 // synthetic sequence first), runs the pipeline on every frame and writes trajectory.txt (TUM), map.ply
 // and report.json into the output directory, and in the inertial modes states.csv (eval/state_csv.hpp).
 
+#include <cstdint>
 #include <string>
+
+#include "vifusion/map/surfel.hpp"
 
 namespace vifusion::cli {
 
@@ -14,6 +17,7 @@ struct RunOptions {
   std::string device;                        ///< GPU name filter
   int max_frames = 0;                        ///< > 0: stop after this many frames
   bool photometric = true;                   ///< use the photometric term besides ICP
+  std::uint32_t map_capacity = map::MapOptions{}.capacity;  ///< surfels the map holds (fixed memory)
 };
 
 int runPipeline(const RunOptions& options);

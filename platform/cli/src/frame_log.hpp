@@ -1,0 +1,47 @@
+#pragma once
+// frames.csv of `vifusion run`: one row per frame of what tracking saw and decided, so a run that
+// drifts or loses frames can be read back frame by frame (which frames were lost, whether the view
+// still landed on the map, where the time went). Columns, after a '#'-prefixed header:
+//   t_ns                  the frame's camera time [ns]
+//   lost                  1: not tracked by vision (rgbd: the pose is the guess; inertial modes: the
+//                         IMU carried the state); the frame was not fused
+//   imu                   1: the estimator used this frame's IMU samples, 0: refused or rgbd mode
+//   icp_inliers, icp_candidates, rgb_inliers   level-0 counts of the last iteration (FrameResult)
+//   iterations            Gauss-Newton iterations over all levels
+//   surfels               surfels in the map after the frame
+//   preprocess_ms, tracking_ms, mapping_ms      wall time of the stages [ms]
+//   imu_chi2              the IMU term's χ² at the solution (inertial modes; 0 otherwise)
+
+#include <filesystem>
+#include <vector>
+
+#include "vifusion/slam/rgbd_slam.hpp"
+
+namespace vifusion::cli {
+
+/// Keeps the rows of a run in memory (reserved up front) and writes them at the end.
+class FrameLog {
+ public:
+  explicit FrameLog(std::size_t frames) { rows_.reserve(frames); }
+
+  void add(const slam::FrameResult& result);
+
+  /// Writes frames.csv to `path` (via a temporary file and a rename); throws vifusion::Error naming
+  /// the file when it cannot be written.
+  void write(const std::filesystem::path& path) const;
+
+ private:
+  struct Row {
+    int64_t t_ns = 0;
+    bool lost = false;
+    bool imu = false;
+    double icp_inliers = 0.0, icp_candidates = 0.0, rgb_inliers = 0.0;
+    int iterations = 0;
+    uint32_t surfels = 0;
+    double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0;
+    double imu_chi2 = 0.0;
+  };
+  std::vector<Row> rows_;
+};
+
+}  // namespace vifusion::cli

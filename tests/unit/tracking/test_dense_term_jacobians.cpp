@@ -175,11 +175,6 @@ SE3d alignPhotometric(const PinholeCamera& camera, const View& reference, const 
   return T_ref_cur;
 }
 
-// A predicted model view has holes where no stable surfel projects: no vertex and intensity 0 there,
-// so the reference's gradient image sees a strong edge along every hole's border that the current
-// frame does not have. Sampling across it biased the alignment (sim:living_room_1 frame 186: 136 mm
-// at the coarsest level, with half of the view unpredicted). The support gate must keep those
-// samples out, and the term must then find the true motion as on a complete reference.
 // The tracking-health ratio is ICP inliers over candidates; a candidate must be a pixel that lands on
 // the model prediction, so that a view half outside the map (a fast turn into unmapped space) still
 // reads as aligned, while a misaligned view does not.
@@ -203,6 +198,11 @@ TEST(DenseTermAlignment, IcpCandidatesArePixelsThatLandOnTheModel) {
   EXPECT_EQ(misaligned.inliers, 0.0);
 }
 
+// A predicted model view has holes where no stable surfel projects: no vertex and intensity 0 there,
+// so the reference's gradient image sees a strong edge along every hole's border that the current
+// frame does not have. Sampling across it biased the alignment (sim:living_room_1 frame 186: 136 mm
+// at the coarsest level, with half of the view unpredicted). The support gate must keep those
+// samples out, and the term must then find the true motion as on a complete reference.
 TEST(DenseTermAlignment, PhotometricIgnoresTheBordersOfHolesInTheReference) {
   const PinholeCamera camera = PinholeCamera::create(160, 120, 140.0, 140.0, 79.5, 59.5);
   const SE3d T_ref_cur_true =

@@ -21,6 +21,7 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
       {"realtime", "Replay a dataset at its timestamps (false: as fast as possible)", &c.realtime},
       {"device", "GPU name filter (\"\": best device)", &c.device},
       {"frame_ring", "Camera ring capacity [frames]", &c.frame_ring},
+      {"map_capacity", "Surfels the map holds (fixed GPU memory, about 110 bytes a surfel)", &c.map_capacity},
       {"map_publish_period_s", "Publish rt/vifusion/map every this many seconds (0: never)", &c.map_publish_period_s},
       {"status_period_s", "Publish rt/vifusion/status every this many seconds", &c.status_period_s},
       {"log_file", "Log file, reopened on SIGHUP (\"\": stderr)", &c.log_file},

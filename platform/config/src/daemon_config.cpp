@@ -20,6 +20,8 @@ void DaemonConfig::validate() const {
           "key 'mode' = '" + mode + "' is unknown: rgbd, rgbdi or gyro");
   require(max_frames >= 0, "key 'max_frames' = " + std::to_string(max_frames) + " must be >= 0 (0: the whole source)");
   require(frame_ring >= 1 && frame_ring <= 64, "key 'frame_ring' = " + std::to_string(frame_ring) + " must be in 1..64");
+  require(map_capacity >= (1 << 16) && map_capacity <= (1 << 26),
+          "key 'map_capacity' = " + std::to_string(map_capacity) + " must be in 65536..67108864 surfels");
   require(std::isfinite(map_publish_period_s) && map_publish_period_s >= 0.0,
           "key 'map_publish_period_s' must be >= 0 (0: never)");
   require(positiveFinite(status_period_s) && status_period_s <= 1.0,

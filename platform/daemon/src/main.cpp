@@ -49,6 +49,7 @@ int serve(const config::DaemonConfig& config) {
   logLine(LogLevel::Info, "source: %s", source->describe().c_str());
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(config.mode);  // validate() admitted only the valid names
+  slam_options.map.capacity = static_cast<std::uint32_t>(config.map_capacity);  // validate() bounded it
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   // The inertial modes need the source's IMU stream; without it, say so now rather than run RGB-D only.
   if (inertial && source->imu().empty()) {

@@ -50,6 +50,9 @@ struct DaemonConfig {
   bool realtime = true;                      ///< replay a dataset at its timestamps (false: as fast as possible)
   std::string device;                        ///< GPU name filter ("" = best device)
   std::int64_t frame_ring = 4;               ///< camera ring capacity [frames], preallocated
+  /// Surfels the map holds: its GPU memory, fixed at start (≈ 110 bytes a surfel). When it fills,
+  /// the oldest inactive surfels make room (map_maintenance.hpp).
+  std::int64_t map_capacity = 2'000'000;
   double map_publish_period_s = 5.0;         ///< rt/vifusion/map every this many seconds; 0: never
   double status_period_s = 0.2;              ///< rt/vifusion/status every this many seconds (≥ 1 Hz)
   std::string log_file;                      ///< log file, reopened on SIGHUP; "" = stderr (the journal)

@@ -7,63 +7,23 @@
 #include <malloc.h>
 
 #include <algorithm>
-#include <cmath>
 #include <vector>
 
 #include "vifusion/test/counting_allocations.hpp"
 #include "counting_vulkan.hpp"
 #include "gpu_test_environment.hpp"
-#include "vifusion/scene/living_room.hpp"
-#include "vifusion/scene/look_at.hpp"
-#include "vifusion/scene/renderer.hpp"
-#include "vifusion/scene/row_pool.hpp"
+#include "rendered_pan.hpp"
 #include "vifusion/slam/rgbd_slam.hpp"
 
 namespace vifusion {
 namespace {
 
 using test::GpuTest;
+using test::Pan;
+using test::panCalibration;
+using test::panFrameIndex;
+using test::renderPan;
 using test::vulkanCallCounts;
-
-struct Pan {
-  std::vector<RgbdFrame> frames;
-  std::vector<SE3d> T_W_C;  ///< ground truth, living-room world
-};
-
-/// 40 noise-free 160×120 frames of the living room along a slow pan (2 mm and 0.23° per frame);
-/// played forwards and backwards they make a continuous sequence that keeps tracking and fusing.
-Pan renderPan(const PinholeCamera& camera) {
-  const scene::LivingRoom room;
-  scene::RowPool pool(2);
-  const scene::Renderer renderer(room, pool);
-  Pan pan;
-  Image<float> depth_m(camera.width, camera.height);
-  for (int i = 0; i < 40; ++i) {
-    const double yaw_rad = 0.004 * i;
-    const Eigen::Vector3d eye_W(1.1 + 0.002 * i, 1.3, 0.8);
-    const Eigen::Vector3d target_W = eye_W + Eigen::Vector3d(std::sin(yaw_rad), -0.25, -std::cos(yaw_rad));
-    RgbdFrame frame;
-    frame.depth = Image<std::uint16_t>(camera.width, camera.height);
-    frame.rgb = Image<Rgb8>(camera.width, camera.height);
-    frame.depth_scale_m = 0.001;
-    pan.T_W_C.push_back(scene::lookAt(eye_W, target_W));
-    renderer.render(pan.T_W_C.back(), camera, frame.rgb.view(), depth_m.view());
-    for (int y = 0; y < camera.height; ++y) {
-      for (int x = 0; x < camera.width; ++x) {
-        frame.depth(x, y) = static_cast<std::uint16_t>(std::lround(depth_m(x, y) * 1000.0f));
-      }
-    }
-    pan.frames.push_back(std::move(frame));
-  }
-  return pan;
-}
-
-RigCalibration panCalibration() {
-  RigCalibration calibration;
-  calibration.camera = PinholeCamera::create(160, 120, 120.0, 120.0, 79.5, 59.5);
-  calibration.depth_scale_m = 0.001;
-  return calibration;
-}
 
 std::size_t mallocInUseBytes() { return mallinfo2().uordblks; }
 
@@ -102,9 +62,7 @@ TEST_F(GpuTest, RgbdSlamAllocatesNothingOverFiveHundredFrames) {
   int lost = 0;
   RgbdFrame frame;
   for (int i = 0; i < kFrames; ++i) {
-    const int period = 2 * (static_cast<int>(pan.size()) - 1);
-    const int k = i % period;
-    const RgbdFrame& source = pan[k < static_cast<int>(pan.size()) ? k : period - k];
+    const RgbdFrame& source = pan[panFrameIndex(static_cast<std::size_t>(i), pan.size())];
     if (i == 0) frame = source;  // the one copy that sizes the frame's images
     std::copy(source.depth.data(), source.depth.data() + source.depth.pixelCount(), frame.depth.data());
     std::copy(source.rgb.data(), source.rgb.data() + source.rgb.pixelCount(), frame.rgb.data());

@@ -17,7 +17,8 @@
 // never-confirmed, then the oldest loop-closure memory goes, and the map keeps taking in the view.
 // Without it a map full of stable surfels dropped every new surfel: 640×480 sim:living_room_0
 // filled 2 M surfels at 44 s (revisited rooms are mapped again while their surfels are inactive),
-// the view left the map and tracking ran away (ATE 8.8 mm before, 228 mm over the whole run).
+// the view left the map and tracking ran away (ATE 8.8 mm before, 228 mm over the whole run; with
+// the policy: 7.5 mm, nothing lost, 1.7 M surfels at the end).
 // Inactive surfels are never removed otherwise.
 
 #include <cstdint>

@@ -1,11 +1,13 @@
-// Checks the report.json files that `vifusion run` wrote for 2 s of the noisy synthetic living room (all
-// three modes), the 50 real 7-Scenes frames and the wall-and-ceiling stretch of living_room_1 (ctest
-// fixtures integration.run_*).
+// Checks the report.json (and frames.csv) files that `vifusion run` wrote for 2 s of the noisy synthetic
+// living room (all three modes), the 50 real 7-Scenes frames and the wall-and-ceiling stretch of
+// living_room_1 (ctest fixtures integration.run_*).
 
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 namespace vifusion {
@@ -15,6 +17,66 @@ nlohmann::json report(const std::string& run_dir = VIFUSION_RUN_DIR, const std::
   std::ifstream file(run_dir + "/" + name);
   EXPECT_TRUE(file.good()) << "no " << name << " in " << run_dir;
   return nlohmann::json::parse(file);
+}
+
+/// frames.csv of a run: the header's column names and the rows as numbers.
+struct FrameTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+  double at(std::size_t row, const std::string& column) const {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (columns[c] == column) return rows.at(row).at(c);
+    }
+    ADD_FAILURE() << "frames.csv has no column " << column;
+    return 0.0;
+  }
+};
+
+FrameTable frameTable(const std::string& run_dir) {
+  std::ifstream file(run_dir + "/frames.csv");
+  EXPECT_TRUE(file.good()) << "no frames.csv in " << run_dir;
+  FrameTable table;
+  std::string line, cell;
+  std::getline(file, line);
+  EXPECT_EQ(line.rfind('#', 0), 0u) << "the header starts with '#'";
+  std::istringstream header(line.substr(1));
+  while (std::getline(header, cell, ',')) table.columns.push_back(cell);
+  while (std::getline(file, line)) {
+    std::istringstream fields(line);
+    std::vector<double>& row = table.rows.emplace_back();
+    while (std::getline(fields, cell, ',')) row.push_back(std::stod(cell));
+    EXPECT_EQ(row.size(), table.columns.size()) << line;
+  }
+  return table;
+}
+
+/// frames.csv agrees with report.json: one row per frame, stamps increasing, the lost frames and the
+/// final surfel count the report gives, and `imu_used` on every frame in the inertial modes.
+void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial) {
+  const nlohmann::json r = report(run_dir);
+  const FrameTable table = frameTable(run_dir);
+  ASSERT_EQ(static_cast<int>(table.rows.size()), r.at("frames").get<int>());
+  double lost = 0.0, imu = 0.0;
+  for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    lost += table.at(i, "lost");
+    imu += table.at(i, "imu");
+    if (i == 0) continue;  // the first frame starts the map: nothing to track against
+    EXPECT_GT(table.at(i, "t_ns"), table.at(i - 1, "t_ns")) << "row " << i;
+    EXPECT_GT(table.at(i, "icp_inliers"), 0.2 * table.at(i, "icp_candidates")) << "row " << i;
+  }
+  EXPECT_EQ(lost, r.at("lost_frames").get<double>());
+  EXPECT_EQ(table.at(table.rows.size() - 1, "surfels"), r.at("surfels").get<double>());
+  // The estimator starts at the first frame with IMU samples before it; every later frame uses them.
+  if (inertial) {
+    EXPECT_GE(imu, static_cast<double>(table.rows.size() - 1));
+  } else {
+    EXPECT_EQ(imu, 0.0);
+  }
+}
+
+TEST(RunReport, FramesCsvHoldsEveryFrameOfTheRun) {
+  expectFramesCsvMatchesTheReport(VIFUSION_RUN_DIR, false);
+  expectFramesCsvMatchesTheReport(VIFUSION_RGBDI_RUN_DIR, true);
 }
 
 TEST(RunReport, RgbdRunsTheSyntheticLivingRoomEndToEnd) {

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "vifusion/preprocess/preprocess_stage.hpp"
+#include "vifusion/slam/model_reference.hpp"
 #include "bench_options.hpp"
 
 namespace vifusion::bench {
@@ -101,15 +102,7 @@ StepPipeline::StepPipeline(const RigCalibration& calibration, const slam::SlamOp
   // As RgbdSlam::recordMapUpdate: predicted maps → reference view, then its intensity pyramid and gradients.
   reference_copy = gpu::CommandSequence::create(ctx, "bench.reference_copy");
   reference_copy->record([&](gpu::CommandRecorder& recorder) {
-    for (int l = 0; l < levels; ++l) {
-      const map::ModelLevelBuffers& model = prediction->level(l);
-      const preprocess::LevelBuffers& reference = tracker->reference(l);
-      for (auto [from, to] : {std::pair{model.vertices, reference.vertices}, std::pair{model.normals, reference.normals}}) {
-        recorder.copyBuffer(arena->buffer(from), arena->buffer(to), arena->buffer(from).bytes);
-      }
-    }
-    const gpu::GpuBuffer& model_intensity = arena->buffer(prediction->level(0).intensity);
-    recorder.copyBuffer(model_intensity, arena->buffer(tracker->reference(0).intensity), model_intensity.bytes);
+    slam::recordPredictionAsReference(recorder, *arena, *prediction, *tracker);
     recorder.hostReadBarrier();
   });
   reference_gradients = gpu::CommandSequence::create(ctx, "bench.reference_gradients");

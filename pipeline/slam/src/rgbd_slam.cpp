@@ -7,6 +7,7 @@
 #include "vifusion/core/error.hpp"
 #include "vifusion/estimator/gravity_initialisation.hpp"
 #include "vifusion/imu/sample_window.hpp"
+#include "vifusion/slam/model_reference.hpp"
 
 namespace vifusion::slam {
 namespace {
@@ -101,15 +102,7 @@ void RgbdSlam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool 
     predicted_parity = parity ^ 1;
   }
   prediction_->record(recorder, predicted_parity);
-  for (int l = 0; l < prediction_->levels(); ++l) {
-    const map::ModelLevelBuffers& model = prediction_->level(l);
-    const preprocess::LevelBuffers& reference = tracker_->reference(l);
-    for (auto [from, to] : {std::pair{model.vertices, reference.vertices}, std::pair{model.normals, reference.normals}}) {
-      recorder.copyBuffer(arena_->buffer(from), arena_->buffer(to), arena_->buffer(from).bytes);
-    }
-  }
-  const gpu::GpuBuffer& model_intensity = arena_->buffer(prediction_->level(0).intensity);
-  recorder.copyBuffer(model_intensity, arena_->buffer(tracker_->reference(0).intensity), model_intensity.bytes);
+  recordPredictionAsReference(recorder, *arena_, *prediction_, *tracker_);
   recorder.computeBarrier();
   tracker_->recordReferenceIntensity(recorder);
   recorder.hostReadBarrier();

@@ -35,6 +35,7 @@ TEST_F(GpuTest, RgbdSlamKeepsTrackingWhenTheMapIsFull) {
 
   constexpr std::size_t kFrames = 320;
   std::uint32_t previous_surfels = 0, max_surfels = 0, dropped = 0;
+  std::uint64_t evicted = 0;
   int full_frames = 0, lost = 0;
   double max_translation_m = 0.0, max_rotation_rad = 0.0;
   RgbdFrame frame;
@@ -51,14 +52,16 @@ TEST_F(GpuTest, RgbdSlamKeepsTrackingWhenTheMapIsFull) {
     max_rotation_rad = std::max(max_rotation_rad, error.tail<3>().norm());
     full_frames += previous_surfels > full_count ? 1 : 0;
     dropped = result.map_overflow;
+    evicted += result.map_evicted;
     max_surfels = std::max(max_surfels, result.surfels);
     previous_surfels = result.surfels;
   }
-  std::printf("map of %u surfels: at most %u, %d frames began full, %u new surfels dropped, %d lost; "
-              "largest error %.2f mm, %.3f°\n",
-              options.map.capacity, max_surfels, full_frames, dropped, lost, max_translation_m * 1e3,
-              max_rotation_rad * 180.0 / M_PI);
+  std::printf("map of %u surfels: at most %u, %d frames began full, %llu evicted, %u new surfels dropped, "
+              "%d lost; largest error %.2f mm, %.3f°\n",
+              options.map.capacity, max_surfels, full_frames, static_cast<unsigned long long>(evicted), dropped, lost,
+              max_translation_m * 1e3, max_rotation_rad * 180.0 / M_PI);
   EXPECT_GE(full_frames, 10) << "the map hardly filled: the test does not test the policy";
+  EXPECT_GT(evicted, 0u) << "FrameResult::map_evicted counts the policy's evictions";
   // The headroom above the full mark (5 %, 1000 surfels) takes a frame's new surfels; eviction
   // restores it before the next frame.
   EXPECT_LE(dropped, 1000u) << "the full map stopped taking in the view";

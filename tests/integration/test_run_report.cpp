@@ -56,16 +56,18 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial) 
   const nlohmann::json r = report(run_dir);
   const FrameTable table = frameTable(run_dir);
   ASSERT_EQ(static_cast<int>(table.rows.size()), r.at("frames").get<int>());
-  double lost = 0.0, imu = 0.0;
+  double lost = 0.0, imu = 0.0, evicted = 0.0;
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
     lost += table.at(i, "lost");
     imu += table.at(i, "imu");
+    evicted += table.at(i, "evicted");
     if (i == 0) continue;  // the first frame starts the map: nothing to track against
     EXPECT_GT(table.at(i, "t_ns"), table.at(i - 1, "t_ns")) << "row " << i;
     EXPECT_GT(table.at(i, "icp_inliers"), 0.2 * table.at(i, "icp_candidates")) << "row " << i;
   }
   EXPECT_EQ(lost, r.at("lost_frames").get<double>());
   EXPECT_EQ(table.at(table.rows.size() - 1, "surfels"), r.at("surfels").get<double>());
+  EXPECT_EQ(evicted, r.at("map_evicted_surfels").get<double>());
   // The estimator starts at the first frame with IMU samples before it; every later frame uses them.
   if (inertial) {
     EXPECT_GE(imu, static_cast<double>(table.rows.size() - 1));

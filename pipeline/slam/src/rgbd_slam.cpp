@@ -201,6 +201,7 @@ FrameResult RgbdSlam::process(const RgbdFrame& frame, std::span<const ImuSample>
     maintenance_->setView(T_C_W, frame_index_);
     update_[parity]->run();
     map_->flip();
+    result.map_evicted = maintenance_->stats().evicted_when_full;
   }
   const map::MapState state = map_->readState(*arena_);
   result.surfels = state.surfel_count;

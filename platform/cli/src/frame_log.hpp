@@ -9,6 +9,7 @@
 //   icp_inliers, icp_candidates, rgb_inliers   level-0 counts of the last iteration (FrameResult)
 //   iterations            Gauss-Newton iterations over all levels
 //   surfels               surfels in the map after the frame
+//   evicted               inactive surfels the map-full policy evicted in the frame
 //   preprocess_ms, tracking_ms, mapping_ms      wall time of the stages [ms]
 //   imu_chi2              the IMU term's χ² at the solution (inertial modes; 0 otherwise)
 
@@ -38,6 +39,7 @@ class FrameLog {
     double icp_inliers = 0.0, icp_candidates = 0.0, rgb_inliers = 0.0;
     int iterations = 0;
     uint32_t surfels = 0;
+    uint32_t evicted = 0;
     double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0;
     double imu_chi2 = 0.0;
   };

@@ -69,6 +69,7 @@ int runPipeline(const RunOptions& options) {
   int lost = 0;
   double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
   uint32_t surfels = 0, map_overflow = 0;
+  uint64_t map_evicted = 0;
   ProgressBar progress("tracking", static_cast<int64_t>(total));
   const auto start = std::chrono::steady_clock::now();
   while (trajectory.size() < total && reader->nextFrame(frame)) {
@@ -86,6 +87,7 @@ int runPipeline(const RunOptions& options) {
     mapping_ms += result.mapping_ms;
     surfels = result.surfels;
     map_overflow = result.map_overflow;
+    map_evicted += result.map_evicted;
     iterations += result.iterations;
     progress.update(static_cast<int64_t>(trajectory.size()));
   }
@@ -117,6 +119,7 @@ int runPipeline(const RunOptions& options) {
         {"mapping", mean(mapping_ms, frames)}}},
       {"surfels", surfels},
       {"map_overflow_surfels", map_overflow},
+      {"map_evicted_surfels", map_evicted},
       {"gauss_newton_iterations_per_frame", mean(iterations, frames)},
       {"frames_per_s", frames / wall_s},
       {"arena_bytes", pipeline.arenaBytes()}};

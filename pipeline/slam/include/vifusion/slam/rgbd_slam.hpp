@@ -70,7 +70,8 @@ struct FrameResult {
   double rgb_inliers = 0.0;     ///< level-0 photometric inliers of the last iteration
   int iterations = 0;           ///< Gauss-Newton iterations over all levels
   uint32_t surfels = 0;         ///< surfels in the map after this frame
-  uint32_t map_overflow = 0;    ///< surfels that did not fit so far (map-full policy: map.hpp)
+  uint32_t map_overflow = 0;    ///< surfels that did not fit so far (map-full policy: map_maintenance.hpp)
+  uint32_t map_evicted = 0;     ///< inactive surfels the map-full policy evicted in this frame
   double preprocess_ms = 0.0;   ///< wall time of upload + preprocessing
   double tracking_ms = 0.0;     ///< wall time of all Gauss-Newton iterations
   double mapping_ms = 0.0;      ///< wall time of fusion, cleanup, compaction and prediction

@@ -1,6 +1,7 @@
 #include "vifusion/estimator/two_state_estimator.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 
 namespace vifusion::estimator {
@@ -144,6 +145,26 @@ void TwoStateEstimator::marginalise(const Vector36d& last_step) {
   prior_x_ = x1_;
 }
 
+bool TwoStateEstimator::solveInertialOnly(const NavState& x0_start, const NavState& x1_start, Vector36d& step,
+                                          int& iterations, int& reintegrations) {
+  x0_ = x0_start;
+  x1_ = x1_start;
+  for (int i = 0; i < options_.inertial_only_iterations; ++i) {
+    reintegrateIfNeeded(reintegrations);
+    buildSystem(nullptr, x1_inertial_only_);
+    if (!solveAndUpdate(step)) return false;
+    ++iterations;
+  }
+  return true;
+}
+
+double TwoStateEstimator::inertialCost() const {
+  Matrix18d information;
+  const Vector18d e = imu_error_.evaluate(pre_, x0_, x1_, nullptr, nullptr, &information);
+  const Vector18d delta = boxMinus(x0_, prior_x_, nullptr, nullptr);
+  return e.dot(modeInformation(information) * e) + delta.dot(prior_H_ * delta) + 2.0 * prior_b_.dot(delta);
+}
+
 std::optional<imu::ImuSampleIssue> TwoStateEstimator::track(std::int64_t t1_ns, std::span<const ImuSample> samples,
                                                             DenseTerms* dense, FrameSolve& summary) {
   summary = FrameSolve{};
@@ -184,20 +205,41 @@ std::optional<imu::ImuSampleIssue> TwoStateEstimator::track(std::int64_t t1_ns, 
   }
   if (vision && !dense->healthy()) vision = false;
 
-  if (!vision) {
-    x0_ = x0_start;
-    x1_ = x1_start;
-    for (int i = 0; i < options_.inertial_only_iterations; ++i) {
-      reintegrateIfNeeded(summary.reintegrations);
-      buildSystem(nullptr, x1_inertial_only_);
-      if (!solveAndUpdate(step)) {
-        // Numerically hopeless (should not happen with a full-rank prior): keep the IMU prediction and
-        // start over from it rather than carry a broken prior.
-        initialise(t1_ns, x1_start);
-        summary.restarted = true;
-        return std::nullopt;
-      }
-      ++summary.iterations;
+  if (vision) {
+    // The gate compares the dense solution with what the IMU and the prior say without it.
+    const NavState x0_vision = x0_, x1_vision = x1_;
+    const Matrix36d H_vision = H_;
+    const Vector36d b_vision = b_, step_vision = step;
+    const Mask18 mask_vision = mask1_;
+    const double cost_vision = inertialCost();
+    int iterations = 0;
+    if (solveInertialOnly(x0_start, x1_start, step, iterations, summary.reintegrations)) {
+      summary.vision_chi2 = std::max(0.0, cost_vision - inertialCost());
+      // Gyro mode has no motion model to carry position: refusing vision there only loses frames.
+      summary.vision_rejected =
+          options_.mode == InertialMode::kRgbdInertial && summary.vision_chi2 > options_.vision_gate_chi2;
+    }
+    if (summary.vision_rejected) {
+      vision = false;
+      summary.iterations += iterations;
+    } else {
+      x0_ = x0_vision;
+      x1_ = x1_vision;
+      H_ = H_vision;
+      b_ = b_vision;
+      step = step_vision;
+      mask1_ = mask_vision;
+    }
+  } else {
+    int iterations = 0;
+    const bool solved = solveInertialOnly(x0_start, x1_start, step, iterations, summary.reintegrations);
+    summary.iterations += iterations;
+    if (!solved) {
+      // Numerically hopeless (should not happen with a full-rank prior): keep the IMU prediction and
+      // start over from it rather than carry a broken prior.
+      initialise(t1_ns, x1_start);
+      summary.restarted = true;
+      return std::nullopt;
     }
   }
   summary.vision_used = vision;

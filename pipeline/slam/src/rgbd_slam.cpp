@@ -139,6 +139,8 @@ void RgbdSlam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> i
   result.rgb_inliers = statistics.rgb_inliers;
   result.iterations = solve.iterations;
   result.imu_chi2 = solve.imu_chi2;
+  result.vision_chi2 = solve.vision_chi2;
+  result.vision_rejected = solve.vision_rejected;
   const NavState& x = estimator_->state();
   const SE3d T_W_C(x.q_W_C, x.r_W_C);
   T_previous_current_ = T_W_previous_.inverse() * T_W_C;

@@ -12,6 +12,8 @@
 //   evicted               inactive surfels the map-full policy evicted in the frame
 //   preprocess_ms, tracking_ms, mapping_ms      wall time of the stages [ms]
 //   imu_chi2              the IMU term's χ² at the solution (inertial modes; 0 otherwise)
+//   vision_chi2           how far the dense solution pulled the state from the IMU and the prior [χ²]
+//   vision_rejected       1: the dense solution failed the estimator's gate on vision_chi2 (then lost = 1)
 
 #include <filesystem>
 #include <vector>
@@ -42,6 +44,8 @@ class FrameLog {
     uint32_t evicted = 0;
     double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0;
     double imu_chi2 = 0.0;
+    double vision_chi2 = 0.0;
+    bool vision_rejected = false;
   };
   std::vector<Row> rows_;
 };

@@ -28,6 +28,11 @@ struct EstimatorOptions {
   /// Gauss-Newton iterations of a frame solved without the dense terms (IMU + prior only: nearly
   /// linear, so few are needed). ≥ 1.
   int inertial_only_iterations = 3;
+  /// The gross-inconsistency gate (rgbdi mode): a frame's dense solution is refused (the IMU and the prior
+  /// carry the frame, which is not fused) when it raises the IMU-and-prior cost above their own optimum by
+  /// more than this χ² (FrameSolve::vision_chi2). Measured at 320×240: living_room_0's 600 frames ≤ 6.3;
+  /// white_wall's dense terms converging 1.8 m off after the wall 127 and 182. > 0; +inf turns it off.
+  double vision_gate_chi2 = 40.0;
 
   /// Prior of the first state. W is the first camera frame (DESIGN §3), so its pose is known up to
   /// this σ [m, rad]: it fixes the gauge of global position and yaw.

@@ -23,9 +23,12 @@
 //  - In gyro mode velocity, accelerometer bias and q_I_W are held at their initial values (they are
 //    unobservable without the accelerometer) and only the rotation and gyro-bias residuals are used,
 //    with the marginal information of those six components.
-// Vision failure: when the dense terms are unusable or the tracking-health test fails, the frame is
-// solved again from the IMU prediction with the IMU term and the prior only (gyro mode holds x1's
-// position at the constant-velocity guess then): the IMU carries the state and the caller does not fuse.
+// Vision failure: when the dense terms are unusable, the tracking-health test fails, or the dense solution
+// is grossly inconsistent with the IMU and the prior (it raises their cost by more than
+// EstimatorOptions::vision_gate_chi2 over their own optimum: after seconds of dead reckoning the dense terms
+// can converge metres away), the frame is solved from the IMU prediction with the IMU term and the prior
+// only (gyro mode holds x1's position at the constant-velocity guess then): the IMU carries the state and
+// the caller does not fuse.
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -64,6 +67,10 @@ struct FrameSolve {
   /// e_IMUᵀ·W·e_IMU at the solution. Small when vision and IMU agree (both states absorb most of the
   /// IMU noise, so it is far below χ²(18)); a jump says the dense solution fights the IMU.
   double imu_chi2 = 0.0;
+  /// How far the dense terms pulled (x0, x1) from the IMU-and-prior optimum: the rise of that cost
+  /// [χ²]; 0 without a dense solution. Above EstimatorOptions::vision_gate_chi2 the solution is refused.
+  double vision_chi2 = 0.0;
+  bool vision_rejected = false;  ///< the dense solution converged but failed that gate
   bool restarted = false;    ///< even the inertial-only system was singular: restarted at the IMU prediction
 };
 
@@ -111,6 +118,12 @@ class TwoStateEstimator {
   /// The IMU information in this mode (gyro: the marginal information of the rotation and gyro-bias rows).
   Matrix18d modeInformation(const Matrix18d& information) const;
   void marginalise(const Vector36d& last_step);
+  /// Solves the frame with the IMU term and the prior only, from (x0, x1) = the IMU prediction. false if
+  /// the system is singular.
+  bool solveInertialOnly(const NavState& x0_start, const NavState& x1_start, Vector36d& step, int& iterations,
+                         int& reintegrations);
+  /// The IMU term's χ² plus the prior's cost 2·(½ΔᵀH*Δ + b*ᵀΔ), at x0_, x1_.
+  double inertialCost() const;
   void reintegrateIfNeeded(int& reintegrations);
 
   EstimatorOptions options_;

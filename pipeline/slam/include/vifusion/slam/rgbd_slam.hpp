@@ -81,6 +81,8 @@ struct FrameResult {
   NavState state;                                ///< the estimator's state (when `inertial`)
   Vector18d state_variance = Vector18d::Zero();  ///< its marginal variances in δx (0: held dims)
   double imu_chi2 = 0.0;                         ///< estimator::FrameSolve::imu_chi2
+  double vision_chi2 = 0.0;                      ///< estimator::FrameSolve::vision_chi2
+  bool vision_rejected = false;                  ///< estimator::FrameSolve::vision_rejected (then also `lost`)
   std::optional<imu::ImuSampleIssue> imu_issue;  ///< why the IMU could not be used this frame
 };
 

@@ -29,6 +29,8 @@ void EstimatorOptions::validate() const {
   positive(initial_pose_sigma, "initial_pose_sigma");
   positive(initial_velocity_sigma_mps, "initial_velocity_sigma_mps");
   positive(initial_gravity_sigma_rad, "initial_gravity_sigma_rad");
+  positive(vision_gate_min_step_m, "vision_gate_min_step_m");
+  positive(vision_gate_min_step_rad, "vision_gate_min_step_rad");
   if (gravity_window_ns <= 0) throw Error("estimator option 'gravity_window_ns' must be > 0");
 }
 

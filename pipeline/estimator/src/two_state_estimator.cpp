@@ -215,9 +215,11 @@ std::optional<imu::ImuSampleIssue> TwoStateEstimator::track(std::int64_t t1_ns, 
     int iterations = 0;
     if (solveInertialOnly(x0_start, x1_start, step, iterations, summary.reintegrations)) {
       summary.vision_chi2 = std::max(0.0, cost_vision - inertialCost());
+      const bool gross_step = (x1_vision.r_W_C - x1_.r_W_C).norm() > options_.vision_gate_min_step_m ||
+                              x1_vision.q_W_C.angularDistance(x1_.q_W_C) > options_.vision_gate_min_step_rad;
       // Gyro mode has no motion model to carry position: refusing vision there only loses frames.
-      summary.vision_rejected =
-          options_.mode == InertialMode::kRgbdInertial && summary.vision_chi2 > options_.vision_gate_chi2;
+      summary.vision_rejected = options_.mode == InertialMode::kRgbdInertial &&
+                                summary.vision_chi2 > options_.vision_gate_chi2 && gross_step;
     }
     if (summary.vision_rejected) {
       vision = false;

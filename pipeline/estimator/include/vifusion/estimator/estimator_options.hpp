@@ -30,9 +30,15 @@ struct EstimatorOptions {
   int inertial_only_iterations = 3;
   /// The gross-inconsistency gate (rgbdi mode): a frame's dense solution is refused (the IMU and the prior
   /// carry the frame, which is not fused) when it raises the IMU-and-prior cost above their own optimum by
-  /// more than this χ² (FrameSolve::vision_chi2). Measured at 320×240: living_room_0's 600 frames ≤ 6.3;
-  /// white_wall's dense terms converging 1.8 m off after the wall 127 and 182. > 0; +inf turns it off.
+  /// more than this χ² (FrameSolve::vision_chi2) AND moves x1's pose from their solution by more than the
+  /// step below. Measured at 320×240: living_room_0's 600 frames ≤ 6.3; white_wall's dense terms converging
+  /// 1.8–2.1 m off after the wall 127 and 182. > 0; +inf turns the gate off.
   double vision_gate_chi2 = 40.0;
+  /// The step a refused solution must also exceed [m, rad], because after fast motion the estimator can be
+  /// over-confident: on quick_rotation (640×480) correct pulls of 30–140 mm back onto the map scored χ²
+  /// 40–257, and at white_wall's turn correct 0.3° yaw pulls up to 149. > 0.
+  double vision_gate_min_step_m = 0.2;
+  double vision_gate_min_step_rad = 5.0 * 3.14159265358979323846 / 180.0;
 
   /// Prior of the first state. W is the first camera frame (DESIGN §3), so its pose is known up to
   /// this σ [m, rad]: it fixes the gauge of global position and yaw.

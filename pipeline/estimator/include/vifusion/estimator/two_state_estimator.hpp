@@ -25,8 +25,8 @@
 //    with the marginal information of those six components.
 // Vision failure: when the dense terms are unusable, the tracking-health test fails, or the dense solution
 // is grossly inconsistent with the IMU and the prior (it raises their cost by more than
-// EstimatorOptions::vision_gate_chi2 over their own optimum: after seconds of dead reckoning the dense terms
-// can converge metres away), the frame is solved from the IMU prediction with the IMU term and the prior
+// EstimatorOptions::vision_gate_chi2 over their own optimum and moves the pose by more than the gate's
+// minimum step: after seconds of dead reckoning the dense terms can converge metres away), the frame is solved from the IMU prediction with the IMU term and the prior
 // only (gyro mode holds x1's position at the constant-velocity guess then): the IMU carries the state and
 // the caller does not fuse.
 
@@ -68,7 +68,8 @@ struct FrameSolve {
   /// IMU noise, so it is far below χ²(18)); a jump says the dense solution fights the IMU.
   double imu_chi2 = 0.0;
   /// How far the dense terms pulled (x0, x1) from the IMU-and-prior optimum: the rise of that cost
-  /// [χ²]; 0 without a dense solution. Above EstimatorOptions::vision_gate_chi2 the solution is refused.
+  /// [χ²]; 0 without a dense solution. Above EstimatorOptions::vision_gate_chi2 (with a step above the
+  /// gate's minimum) the solution is refused.
   double vision_chi2 = 0.0;
   bool vision_rejected = false;  ///< the dense solution converged but failed that gate
   bool restarted = false;    ///< even the inertial-only system was singular: restarted at the IMU prediction

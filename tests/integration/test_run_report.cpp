@@ -51,14 +51,17 @@ FrameTable frameTable(const std::string& run_dir) {
 }
 
 /// frames.csv agrees with report.json: one row per frame, stamps increasing, the lost frames and the
-/// final surfel count the report gives, and `imu_used` on every frame in the inertial modes.
+/// final surfel count the report gives, `imu_used` on every frame in the inertial modes, and no dense
+/// solution refused by the estimator's gate.
 void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial) {
   const nlohmann::json r = report(run_dir);
   const FrameTable table = frameTable(run_dir);
   ASSERT_EQ(static_cast<int>(table.rows.size()), r.at("frames").get<int>());
-  double lost = 0.0, imu = 0.0, evicted = 0.0;
+  double lost = 0.0, imu = 0.0, evicted = 0.0, rejected = 0.0;
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
     lost += table.at(i, "lost");
+    rejected += table.at(i, "vision_rejected");
+    EXPECT_LE(table.at(i, "vision_rejected"), table.at(i, "lost")) << "a refused frame is a lost frame, row " << i;
     imu += table.at(i, "imu");
     evicted += table.at(i, "evicted");
     if (i == 0) continue;  // the first frame starts the map: nothing to track against
@@ -68,6 +71,7 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial) 
   EXPECT_EQ(lost, r.at("lost_frames").get<double>());
   EXPECT_EQ(table.at(table.rows.size() - 1, "surfels"), r.at("surfels").get<double>());
   EXPECT_EQ(evicted, r.at("map_evicted_surfels").get<double>());
+  EXPECT_EQ(rejected, 0.0) << "the living room is consistent: the estimator's gate refuses nothing";
   // The estimator starts at the first frame with IMU samples before it; every later frame uses them.
   if (inertial) {
     EXPECT_GE(imu, static_cast<double>(table.rows.size() - 1));

@@ -184,6 +184,8 @@ std::optional<imu::ImuSampleIssue> TwoStateEstimator::track(std::int64_t t1_ns, 
   Vector36d step = Vector36d::Zero();
   bool vision = dense != nullptr;
   for (int level = vision ? dense->levels() - 1 : -1; vision && level >= 0; --level) {
+    double previous_inliers = -1.0;
+    NavState x0_previous, x1_previous;
     for (int i = 0; i < options_.iterations[level]; ++i) {
       reintegrateIfNeeded(summary.reintegrations);
       PoseSystem system;
@@ -191,6 +193,27 @@ std::optional<imu::ImuSampleIssue> TwoStateEstimator::track(std::int64_t t1_ns, 
         vision = false;
         break;
       }
+      if (system.inliers < (1.0 - options_.max_inlier_loss) * previous_inliers) {
+        // The last step lost inliers: back to the iterate before it, evaluated again so that the system
+        // marginalised (and the terms' statistics) belong to the pose kept.
+        x0_ = x0_previous;
+        x1_ = x1_previous;
+        if (!dense->evaluate(level, cameraPose(x1_), system)) {
+          vision = false;
+          break;
+        }
+        buildSystem(&system, x1_estimated_);
+        // Marginalised as if the kept iterate were the optimum (gradient b + H·step = 0 there): the linear
+        // model that proposed the lost step is not to be carried into the prior.
+        ldlt_.compute(H_);
+        step = ldlt_.solve(-b_);
+        if (ldlt_.info() != Eigen::Success || !step.allFinite()) vision = false;
+        ++summary.backtracks;
+        break;
+      }
+      previous_inliers = system.inliers;
+      x0_previous = x0_;
+      x1_previous = x1_;
       buildSystem(&system, x1_estimated_);
       if (!solveAndUpdate(step)) {
         vision = false;

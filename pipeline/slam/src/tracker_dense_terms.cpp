@@ -13,6 +13,7 @@ bool TrackerDenseTerms::evaluate(int level, const SE3d& T_W_C, estimator::PoseSy
   tracking::removeUnconstrainedIcpDirections(tracker_.icpEquations(level), options_.icp_min_constraint_share, equations);
   system = estimator::toStatePose(options_.information_scale * equations.H, options_.information_scale * equations.b,
                                   T_W_ref_, T_W_C);
+  system.inliers = equations.inliers;
   return true;
 }
 

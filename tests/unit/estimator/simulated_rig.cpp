@@ -1,5 +1,7 @@
 #include "simulated_rig.hpp"
 
+#include <cmath>
+
 #include <algorithm>
 #include <numbers>
 
@@ -77,8 +79,11 @@ bool SimulatedVision::evaluate(int, const SE3d& T_W_C, PoseSystem& system) {
   Vector6d information;
   information << Eigen::Vector3d::Constant(1.0 / (sigma_m_ * sigma_m_)),
       Eigen::Vector3d::Constant(1.0 / (sigma_rad_ * sigma_rad_));
-  system.H = J.transpose() * information.asDiagonal() * J;
+  system.H = J.transpose() * information.asDiagonal() * J / overshoot_;
   system.b = J.transpose() * information.asDiagonal() * r;
+  constexpr double kInliers = 1000.0, kBasin_m = 0.05;
+  system.inliers = overshoot_ == 1.0 ? kInliers
+                                     : kInliers * std::exp(-0.5 * r.head<3>().squaredNorm() / (kBasin_m * kBasin_m));
   return true;
 }
 

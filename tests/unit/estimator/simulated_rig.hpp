@@ -50,6 +50,10 @@ class SimulatedVision : public DenseTerms {
   /// Draws the measurement of the pose T_W_C for the next frame.
   void observe(const SE3d& T_W_C_true);
   void setHealthy(bool healthy) { healthy_ = healthy; }
+  /// Makes the terms' Gauss-Newton steps `factor` times too long (their information divided by it) and
+  /// their inliers fall off with the distance from the measurement (σ 5 cm): a solve that overshoots
+  /// out of its basin. 1: exact steps, constant inliers.
+  void setOvershoot(double factor) { overshoot_ = factor; }
 
   int levels() const override { return 3; }
   bool evaluate(int level, const SE3d& T_W_C, PoseSystem& system) override;
@@ -61,6 +65,7 @@ class SimulatedVision : public DenseTerms {
   sim::NormalRng rng_;
   SE3d measured_T_W_C_;
   bool healthy_ = true;
+  double overshoot_ = 1.0;
   int evaluations_ = 0;
 };
 

@@ -28,6 +28,8 @@ TEST(EstimatorOptions, ValidationNamesTheField) {
   expectRejected([](EstimatorOptions& o) { o.converged_step = -1.0; }, "converged_step");
   expectRejected([](EstimatorOptions& o) { o.inertial_only_iterations = 0; }, "inertial_only_iterations");
   expectRejected([](EstimatorOptions& o) { o.vision_gate_chi2 = 0.0; }, "vision_gate_chi2");
+  expectRejected([](EstimatorOptions& o) { o.max_inlier_loss = 0.0; }, "max_inlier_loss");
+  expectRejected([](EstimatorOptions& o) { o.max_inlier_loss = 1.5; }, "max_inlier_loss");
   expectRejected([](EstimatorOptions& o) { o.vision_gate_min_step_m = 0.0; }, "vision_gate_min_step_m");
   expectRejected([](EstimatorOptions& o) { o.vision_gate_min_step_rad = -1.0; }, "vision_gate_min_step_rad");
   expectRejected([](EstimatorOptions& o) { o.vision_gate_chi2 = std::numeric_limits<double>::quiet_NaN(); }, "vision_gate_chi2");

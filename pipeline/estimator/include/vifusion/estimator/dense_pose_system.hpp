@@ -19,6 +19,7 @@ Matrix6d referenceTwistPerStatePose(const SE3d& T_W_ref, const SE3d& T_W_C);
 struct PoseSystem {
   Matrix6d H = Matrix6d::Zero();  ///< information [1/m², 1/(m·rad), 1/rad²]
   Vector6d b = Vector6d::Zero();  ///< gradient JᵀWr
+  double inliers = 0.0;           ///< residual rows that passed the terms' outlier tests (how well the view fits)
 };
 
 /// Converts normal equations over the reference-camera twist into the state's pose coordinates.

@@ -25,6 +25,12 @@ struct EstimatorOptions {
   std::array<int, 3> iterations = {10, 5, 4};
   /// A level stops early when x1's pose step is below this (translation [m] and rotation [rad]).
   double converged_step = 1e-5;
+  /// A Gauss-Newton step after which the dense terms keep fewer than (1 − this) of their inliers is taken
+  /// back and its pyramid level ends there: the solve is leaving the dense terms' basin. white_wall at
+  /// 640×480 on the way back from the wall (0.28 m of drift): level 0 walked 2.4 m along the wall in seven
+  /// steps while its inliers fell 268 k → 263 k → 254 k → 228 k → … → 0, and the frame was lost. In (0, 1];
+  /// 1 turns the check off.
+  double max_inlier_loss = 0.01;
   /// Gauss-Newton iterations of a frame solved without the dense terms (IMU + prior only: nearly
   /// linear, so few are needed). ≥ 1.
   int inertial_only_iterations = 3;
@@ -36,8 +42,9 @@ struct EstimatorOptions {
   double vision_gate_chi2 = 40.0;
   /// The step a refused solution must also exceed [m, rad], because after fast motion the estimator can be
   /// over-confident: on quick_rotation (640×480) correct pulls of 30–140 mm back onto the map scored χ²
-  /// 40–257, and at white_wall's turn correct 0.3° yaw pulls up to 149. > 0.
-  double vision_gate_min_step_m = 0.2;
+  /// 40–257, at white_wall's turn correct 0.3° yaw pulls up to 149, and its relock after the wall pulled
+  /// 0.28 m with χ² 96–134; the wrong basin it guards against was 1.8–2.1 m away. > 0.
+  double vision_gate_min_step_m = 0.5;
   double vision_gate_min_step_rad = 5.0 * 3.14159265358979323846 / 180.0;
 
   /// Prior of the first state. W is the first camera frame (DESIGN §3), so its pose is known up to

@@ -6,7 +6,8 @@
 //   - the IMU error term e_IMU = x̂1(x0) ⊟ x1 with its information (imu_error.hpp),
 //   - the marginalisation prior on x0: cost ½·Δᵀ·H*·Δ + b*ᵀ·Δ with Δ = x0 ⊟ x̄0, whose gradient
 //     b* + H*·Δ is the paper's first-order correction (eq. 9); its Jacobian through ⊟ is applied too,
-// coarse to fine over the dense terms' pyramid. Then x0 is marginalised by the Schur complement
+// coarse to fine over the dense terms' pyramid (a step that loses the dense terms' inliers is taken back and
+// ends its level: EstimatorOptions::max_inlier_loss). Then x0 is marginalised by the Schur complement
 // (eq. 8), H* = H11 − H10·H00⁻¹·H01, b* = b1 − H10·H00⁻¹·b0, taken at the solution (the gradient is
 // predicted there from the last linear system), and x1 becomes the next frame's x0.
 // Sign convention throughout: b = JᵀWr is the gradient, the step is δ = −H⁻¹·b.
@@ -64,6 +65,7 @@ struct FrameSolve {
   bool vision_used = false;  ///< the dense terms are part of the solution (else IMU and prior only)
   int iterations = 0;        ///< Gauss-Newton iterations, including an inertial-only re-solve
   int reintegrations = 0;    ///< preintegrations redone at a moved gyro bias
+  int backtracks = 0;        ///< pyramid levels ended by a step that lost inliers (EstimatorOptions::max_inlier_loss)
   /// e_IMUᵀ·W·e_IMU at the solution. Small when vision and IMU agree (both states absorb most of the
   /// IMU noise, so it is far below χ²(18)); a jump says the dense solution fights the IMU.
   double imu_chi2 = 0.0;

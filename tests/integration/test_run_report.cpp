@@ -51,9 +51,9 @@ FrameTable frameTable(const std::string& run_dir) {
 }
 
 /// frames.csv agrees with report.json: one row per frame, stamps increasing, the lost frames and the
-/// final surfel count the report gives, `imu_used` on every frame in the inertial modes, and no dense
-/// solution refused by the estimator's gate.
-void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial) {
+/// final surfel count the report gives, `imu_used` on every frame in the inertial modes, and (in a
+/// `consistent` run) no dense solution refused by the estimator's gate.
+void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial, bool consistent = true) {
   const nlohmann::json r = report(run_dir);
   const FrameTable table = frameTable(run_dir);
   ASSERT_EQ(static_cast<int>(table.rows.size()), r.at("frames").get<int>());
@@ -71,7 +71,9 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial) 
   EXPECT_EQ(lost, r.at("lost_frames").get<double>());
   EXPECT_EQ(table.at(table.rows.size() - 1, "surfels"), r.at("surfels").get<double>());
   EXPECT_EQ(evicted, r.at("map_evicted_surfels").get<double>());
-  EXPECT_EQ(rejected, 0.0) << "the living room is consistent: the estimator's gate refuses nothing";
+  if (consistent) {
+    EXPECT_EQ(rejected, 0.0) << "a consistent run: the estimator's gate refuses nothing";
+  }
   // The estimator starts at the first frame with IMU samples before it; every later frame uses them.
   if (inertial) {
     EXPECT_GE(imu, static_cast<double>(table.rows.size() - 1));
@@ -141,6 +143,21 @@ TEST(RunReport, RgbdHoldsTheWallAndCeilingViewOfLivingRoom1) {
   EXPECT_EQ(r.at("frames").get<int>(), 52);
   EXPECT_EQ(r.at("lost_frames").get<int>(), 0);
   EXPECT_LT(r.at("ate_rmse_m").get<double>(), 0.015);
+}
+
+// Issue 5: the first 13 s of white_wall at 320×240 (integration.run_*.white_wall). On the wall nothing
+// photometric is left and the ICP leaves the in-plane motion free: the IMU dead-reckons it for 3.8 s
+// (0.28 m of drift) and the dense terms must take the pose back when the room returns. Measured:
+// RGB-D-inertial 46.6 mm, 0 lost (before the estimator's gate and step check: 1016 mm, 58 lost, the
+// return diverged along the wall); RGB-D alone 381 mm, 157 lost.
+TEST(RunReport, RgbdInertialCrossesTheWhiteWall) {
+  const nlohmann::json inertial = report(VIFUSION_WHITE_WALL_RGBDI_RUN_DIR);
+  const nlohmann::json rgbd = report(VIFUSION_WHITE_WALL_RGBD_RUN_DIR);
+  EXPECT_EQ(inertial.at("frames").get<int>(), 391);
+  EXPECT_EQ(inertial.at("lost_frames").get<int>(), 0);
+  EXPECT_LT(inertial.at("ate_rmse_m").get<double>(), 0.060);
+  EXPECT_GT(rgbd.at("ate_rmse_m").get<double>(), 3.0 * inertial.at("ate_rmse_m").get<double>());
+  expectFramesCsvMatchesTheReport(VIFUSION_WHITE_WALL_RGBDI_RUN_DIR, true, false);
 }
 
 }  // namespace

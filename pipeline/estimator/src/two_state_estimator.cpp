@@ -165,6 +165,73 @@ double TwoStateEstimator::inertialCost() const {
   return e.dot(modeInformation(information) * e) + delta.dot(prior_H_ * delta) + 2.0 * prior_b_.dot(delta);
 }
 
+bool TwoStateEstimator::solveDense(DenseTerms& dense, Vector36d& step, FrameSolve& summary) {
+  for (int level = dense.levels() - 1; level >= 0; --level) {
+    double previous_inliers = -1.0;
+    NavState x0_previous, x1_previous;
+    for (int i = 0; i < options_.iterations[level]; ++i) {
+      reintegrateIfNeeded(summary.reintegrations);
+      PoseSystem system;
+      if (!dense.evaluate(level, cameraPose(x1_), system)) return false;
+      if (system.inliers < (1.0 - options_.max_inlier_loss) * previous_inliers) {
+        // The last step lost inliers: back to the iterate before it, evaluated again so that the system
+        // marginalised (and the terms' statistics) belong to the pose kept.
+        x0_ = x0_previous;
+        x1_ = x1_previous;
+        if (!dense.evaluate(level, cameraPose(x1_), system)) return false;
+        buildSystem(&system, x1_estimated_);
+        // Marginalised as if the kept iterate were the optimum (gradient b + H·step = 0 there): the linear
+        // model that proposed the lost step is not to be carried into the prior.
+        ldlt_.compute(H_);
+        step = ldlt_.solve(-b_);
+        if (ldlt_.info() != Eigen::Success || !step.allFinite()) return false;
+        ++summary.backtracks;
+        break;
+      }
+      previous_inliers = system.inliers;
+      x0_previous = x0_;
+      x1_previous = x1_;
+      buildSystem(&system, x1_estimated_);
+      if (!solveAndUpdate(step)) return false;
+      ++summary.iterations;
+      const auto pose_step = step.segment<6>(kStateDim + kIdxR);
+      if (pose_step.head<3>().norm() < options_.converged_step && pose_step.tail<3>().norm() < options_.converged_step) {
+        break;
+      }
+    }
+  }
+  return dense.healthy();
+}
+
+bool TwoStateEstimator::refusedByGate(const NavState& x0_start, const NavState& x1_start, Vector36d& step,
+                                      FrameSolve& summary) {
+  const NavState x0_vision = x0_, x1_vision = x1_;
+  const Matrix36d H_vision = H_;
+  const Vector36d b_vision = b_, step_vision = step;
+  const Mask18 mask_vision = mask1_;
+  const double cost_vision = inertialCost();
+  int iterations = 0;
+  if (solveInertialOnly(x0_start, x1_start, step, iterations, summary.reintegrations)) {
+    summary.vision_chi2 = std::max(0.0, cost_vision - inertialCost());
+    const bool gross_step = (x1_vision.r_W_C - x1_.r_W_C).norm() > options_.vision_gate_min_step_m ||
+                            x1_vision.q_W_C.angularDistance(x1_.q_W_C) > options_.vision_gate_min_step_rad;
+    // Gyro mode has no motion model to carry position: refusing vision there only loses frames.
+    summary.vision_rejected = options_.mode == InertialMode::kRgbdInertial &&
+                              summary.vision_chi2 > options_.vision_gate_chi2 && gross_step;
+  }
+  if (summary.vision_rejected) {  // keep the inertial-only solution just computed
+    summary.iterations += iterations;
+    return true;
+  }
+  x0_ = x0_vision;
+  x1_ = x1_vision;
+  H_ = H_vision;
+  b_ = b_vision;
+  step = step_vision;
+  mask1_ = mask_vision;
+  return false;
+}
+
 std::optional<imu::ImuSampleIssue> TwoStateEstimator::track(std::int64_t t1_ns, std::span<const ImuSample> samples,
                                                             DenseTerms* dense, FrameSolve& summary) {
   summary = FrameSolve{};
@@ -182,79 +249,10 @@ std::optional<imu::ImuSampleIssue> TwoStateEstimator::track(std::int64_t t1_ns, 
   const NavState x1_start = x1_;
 
   Vector36d step = Vector36d::Zero();
-  bool vision = dense != nullptr;
-  for (int level = vision ? dense->levels() - 1 : -1; vision && level >= 0; --level) {
-    double previous_inliers = -1.0;
-    NavState x0_previous, x1_previous;
-    for (int i = 0; i < options_.iterations[level]; ++i) {
-      reintegrateIfNeeded(summary.reintegrations);
-      PoseSystem system;
-      if (!dense->evaluate(level, cameraPose(x1_), system)) {
-        vision = false;
-        break;
-      }
-      if (system.inliers < (1.0 - options_.max_inlier_loss) * previous_inliers) {
-        // The last step lost inliers: back to the iterate before it, evaluated again so that the system
-        // marginalised (and the terms' statistics) belong to the pose kept.
-        x0_ = x0_previous;
-        x1_ = x1_previous;
-        if (!dense->evaluate(level, cameraPose(x1_), system)) {
-          vision = false;
-          break;
-        }
-        buildSystem(&system, x1_estimated_);
-        // Marginalised as if the kept iterate were the optimum (gradient b + H·step = 0 there): the linear
-        // model that proposed the lost step is not to be carried into the prior.
-        ldlt_.compute(H_);
-        step = ldlt_.solve(-b_);
-        if (ldlt_.info() != Eigen::Success || !step.allFinite()) vision = false;
-        ++summary.backtracks;
-        break;
-      }
-      previous_inliers = system.inliers;
-      x0_previous = x0_;
-      x1_previous = x1_;
-      buildSystem(&system, x1_estimated_);
-      if (!solveAndUpdate(step)) {
-        vision = false;
-        break;
-      }
-      ++summary.iterations;
-      const auto pose_step = step.segment<6>(kStateDim + kIdxR);
-      if (pose_step.head<3>().norm() < options_.converged_step && pose_step.tail<3>().norm() < options_.converged_step) {
-        break;
-      }
-    }
-  }
-  if (vision && !dense->healthy()) vision = false;
-
+  bool vision = dense != nullptr && solveDense(*dense, step, summary);
   if (vision) {
     // The gate compares the dense solution with what the IMU and the prior say without it.
-    const NavState x0_vision = x0_, x1_vision = x1_;
-    const Matrix36d H_vision = H_;
-    const Vector36d b_vision = b_, step_vision = step;
-    const Mask18 mask_vision = mask1_;
-    const double cost_vision = inertialCost();
-    int iterations = 0;
-    if (solveInertialOnly(x0_start, x1_start, step, iterations, summary.reintegrations)) {
-      summary.vision_chi2 = std::max(0.0, cost_vision - inertialCost());
-      const bool gross_step = (x1_vision.r_W_C - x1_.r_W_C).norm() > options_.vision_gate_min_step_m ||
-                              x1_vision.q_W_C.angularDistance(x1_.q_W_C) > options_.vision_gate_min_step_rad;
-      // Gyro mode has no motion model to carry position: refusing vision there only loses frames.
-      summary.vision_rejected = options_.mode == InertialMode::kRgbdInertial &&
-                                summary.vision_chi2 > options_.vision_gate_chi2 && gross_step;
-    }
-    if (summary.vision_rejected) {
-      vision = false;
-      summary.iterations += iterations;
-    } else {
-      x0_ = x0_vision;
-      x1_ = x1_vision;
-      H_ = H_vision;
-      b_ = b_vision;
-      step = step_vision;
-      mask1_ = mask_vision;
-    }
+    vision = !refusedByGate(x0_start, x1_start, step, summary);
   } else {
     int iterations = 0;
     const bool solved = solveInertialOnly(x0_start, x1_start, step, iterations, summary.reintegrations);

@@ -121,6 +121,14 @@ class TwoStateEstimator {
   /// The IMU information in this mode (gyro: the marginal information of the rotation and gyro-bias rows).
   Matrix18d modeInformation(const Matrix18d& information) const;
   void marginalise(const Vector36d& last_step);
+  /// Gauss-Newton over the dense terms, the IMU term and the prior, coarse to fine from the current x0_, x1_;
+  /// a step that loses inliers is taken back and ends its level. false when the dense terms are unusable,
+  /// a system is singular, or the tracking-health test fails.
+  bool solveDense(DenseTerms& dense, Vector36d& step, FrameSolve& summary);
+  /// The gross-inconsistency gate on the dense solution in x0_, x1_ (EstimatorOptions::vision_gate_chi2):
+  /// true when refused, leaving the inertial-only solution from (x0_start, x1_start) in place; false
+  /// restores the dense solution and its system. Fills summary.vision_chi2 / vision_rejected.
+  bool refusedByGate(const NavState& x0_start, const NavState& x1_start, Vector36d& step, FrameSolve& summary);
   /// Solves the frame with the IMU term and the prior only, from (x0, x1) = the IMU prediction. false if
   /// the system is singular.
   bool solveInertialOnly(const NavState& x0_start, const NavState& x1_start, Vector36d& step, int& iterations,

@@ -111,11 +111,15 @@ void TwoStateEstimator::buildSystem(const PoseSystem* dense, const Mask18& mask1
   mask1_ = mask1;
 }
 
-bool TwoStateEstimator::solveAndUpdate(Vector36d& step) {
+bool TwoStateEstimator::solveStep(Vector36d& step) {
   ldlt_.compute(H_);
   if (ldlt_.info() != Eigen::Success || !(ldlt_.vectorD().minCoeff() > 0.0)) return false;
   step = ldlt_.solve(-b_);
-  if (!step.allFinite()) return false;
+  return step.allFinite();
+}
+
+bool TwoStateEstimator::solveAndUpdate(Vector36d& step) {
+  if (!solveStep(step)) return false;
   x0_ = boxPlus(x0_, step.head<kStateDim>());
   x1_ = boxPlus(x1_, step.tail<kStateDim>());
   return true;
@@ -182,9 +186,7 @@ bool TwoStateEstimator::solveDense(DenseTerms& dense, Vector36d& step, FrameSolv
         buildSystem(&system, x1_estimated_);
         // Marginalised as if the kept iterate were the optimum (gradient b + H·step = 0 there): the linear
         // model that proposed the lost step is not to be carried into the prior.
-        ldlt_.compute(H_);
-        step = ldlt_.solve(-b_);
-        if (ldlt_.info() != Eigen::Success || !step.allFinite()) return false;
+        if (!solveStep(step)) return false;
         ++summary.backtracks;
         break;
       }

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdint>
+#include <numbers>
 #include <string>
 
 namespace vifusion::estimator {
@@ -45,7 +46,7 @@ struct EstimatorOptions {
   /// 40–257, at white_wall's turn correct 0.3° yaw pulls up to 149, and its relock after the wall pulled
   /// 0.28 m with χ² 96–134; the wrong basin it guards against was 1.8–2.1 m away. > 0.
   double vision_gate_min_step_m = 0.5;
-  double vision_gate_min_step_rad = 5.0 * 3.14159265358979323846 / 180.0;
+  double vision_gate_min_step_rad = 5.0 * std::numbers::pi / 180.0;
 
   /// Prior of the first state. W is the first camera frame (DESIGN §3), so its pose is known up to
   /// this σ [m, rad]: it fixes the gauge of global position and yaw.

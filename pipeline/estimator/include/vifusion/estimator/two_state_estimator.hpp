@@ -27,9 +27,9 @@
 // Vision failure: when the dense terms are unusable, the tracking-health test fails, or the dense solution
 // is grossly inconsistent with the IMU and the prior (it raises their cost by more than
 // EstimatorOptions::vision_gate_chi2 over their own optimum and moves the pose by more than the gate's
-// minimum step: after seconds of dead reckoning the dense terms can converge metres away), the frame is solved from the IMU prediction with the IMU term and the prior
-// only (gyro mode holds x1's position at the constant-velocity guess then): the IMU carries the state and
-// the caller does not fuse.
+// minimum step: after seconds of dead reckoning the dense terms can converge metres away), the frame is
+// solved from the IMU prediction with the IMU term and the prior only (gyro mode holds x1's position at
+// the constant-velocity guess then): the IMU carries the state and the caller does not fuse.
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -118,6 +118,8 @@ class TwoStateEstimator {
   void buildSystem(const PoseSystem* dense, const Mask18& mask1);
   /// Solves the built system and applies the step to x0_, x1_. false if singular or not finite.
   bool solveAndUpdate(Vector36d& step);
+  /// The step of the built system (not applied). false if singular or not finite.
+  bool solveStep(Vector36d& step);
   /// The IMU information in this mode (gyro: the marginal information of the rotation and gyro-bias rows).
   Matrix18d modeInformation(const Matrix18d& information) const;
   void marginalise(const Vector36d& last_step);

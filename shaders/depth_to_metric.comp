@@ -1,6 +1,6 @@
 #version 450
-// depth_to_metric: raw sensor depth (uint16 units) → metric depth along the optical axis, gated to
-// the sensor's trusted range.
+// depth_to_metric: raw sensor depth (uint16 units) → metric depth along the optical axis, corrected for
+// the sensor's inverse-depth bias (1/z = 1/z_raw − b) and gated to the sensor's trusted range.
 //
 // Bindings (set 0, std430 storage buffers, images row-major and tightly packed, width × height):
 //   0  raw_words  readonly   uint[]   raw depth, two uint16 per word (preprocess/packing.glsl)
@@ -19,6 +19,7 @@ layout(push_constant) uniform Params {
   float depth_scale_m;  // metres per raw unit
   float min_depth_m;    // smallest kept depth [m], inclusive
   float max_depth_m;    // largest kept depth [m], inclusive
+  float inverse_depth_bias_per_m;  // b [1/m]: the sensor's 1/z reads b too high
 } params;
 
 layout(set = 0, binding = 0, std430) restrict readonly buffer RawDepth { uint raw_words[]; };
@@ -31,7 +32,9 @@ void main() {
   // Packing follows the linear pixel index, so odd widths work too (rows may straddle words).
   const uint i = uint(pixel.y * params.width + pixel.x);
   const uint raw = depthOfWord(raw_words[i >> 1u], i);
-  const float z_m = float(raw) * params.depth_scale_m;
-  const bool valid = raw != 0u && z_m >= params.min_depth_m && z_m <= params.max_depth_m;
+  const float z_raw_m = float(raw) * params.depth_scale_m;
+  const float denominator = 1.0 - params.inverse_depth_bias_per_m * z_raw_m;
+  const float z_m = z_raw_m / denominator;
+  const bool valid = raw != 0u && denominator > 0.0 && z_m >= params.min_depth_m && z_m <= params.max_depth_m;
   depth_m[i] = valid ? z_m : 0.0;
 }

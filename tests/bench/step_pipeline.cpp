@@ -12,7 +12,7 @@ StepPipeline::StepPipeline(const RigCalibration& calibration, const slam::SlamOp
     : tracker_options(options.tracker) {
   gpu::GpuContext& ctx = context();
   const PinholeCamera& camera = calibration.camera;
-  tracker = std::make_unique<slam::DenseTracker>(ctx, plan, camera, calibration.depth_scale_m, tracker_options);
+  tracker = std::make_unique<slam::DenseTracker>(ctx, plan, calibration, tracker_options);
   const preprocess::PreprocessStage& stage = tracker->preprocessing();
   const int levels = tracker_options.levels;
   map = std::make_unique<map::MapBuffers>(plan, options.map, camera);

@@ -140,7 +140,8 @@ void expectAgree(const char* what, int level, ImageView<const T> gpu, ImageView<
 
 struct CameraCase {
   const char* name;
-  double fy_sign;  ///< −1: ICL-NUIM-style negative fy
+  double fy_sign;                  ///< −1: ICL-NUIM-style negative fy
+  float inverse_depth_bias_per_m;  ///< DepthToMetricParams: the simulated Kinect's 1.42e-3, or none
 };
 void PrintTo(const CameraCase& c, std::ostream* out) { *out << c.name; }
 
@@ -151,6 +152,7 @@ TEST_P(PreprocessGpuTest, EveryKernelMatchesItsCpuReferenceOnRealFrames) {
   frame.camera.fy *= GetParam().fy_sign;
   preprocess::PreprocessOptions options;
   options.camera = frame.camera;
+  options.metric.inverse_depth_bias_per_m = GetParam().inverse_depth_bias_per_m;
   PreprocessPipeline pipeline(context(), options);
   const preprocess::PreprocessOptions& used = pipeline.stage().options();
 
@@ -161,7 +163,9 @@ TEST_P(PreprocessGpuTest, EveryKernelMatchesItsCpuReferenceOnRealFrames) {
 
     Image<float> metric(camera0.width, camera0.height);
     preprocess::depthToMetricCpu(input.depth_mm.view(), used.metric, metric.view());
-    expectAgree<float>("metric depth", 0, pipeline.image<float>(pipeline.rawDepth(), 0), metric.view(), 0.0);
+    // Exact without a bias; with one, GLSL's division may be 2.5 ulp off (≈ 1.2e-6 m at 4 m).
+    const double metric_tolerance_m = used.metric.inverse_depth_bias_per_m == 0.0f ? 0.0 : 2e-6;
+    expectAgree<float>("metric depth", 0, pipeline.image<float>(pipeline.rawDepth(), 0), metric.view(), metric_tolerance_m);
 
     Image<float> intensity(camera0.width, camera0.height);
     preprocess::rgbToIntensityCpu(input.rgb.view(), used.intensity, intensity.view());
@@ -214,7 +218,8 @@ TEST_P(PreprocessGpuTest, EveryKernelMatchesItsCpuReferenceOnRealFrames) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cameras, PreprocessGpuTest,
-                         ::testing::Values(CameraCase{"kinect", 1.0}, CameraCase{"negative_fy", -1.0}),
+                         ::testing::Values(CameraCase{"kinect", 1.0, 0.0f}, CameraCase{"negative_fy", -1.0, 0.0f},
+                                           CameraCase{"biased_depth", 1.0, 1.4232849e-3f}),
                          [](const ::testing::TestParamInfo<CameraCase>& info) { return std::string(info.param.name); });
 
 TEST_F(GpuTest, PreprocessRejectsBadOptionsAndMismatchedFrames) {
@@ -229,6 +234,9 @@ TEST_F(GpuTest, PreprocessRejectsBadOptionsAndMismatchedFrames) {
   options.metric.min_depth_m = 5.0f;
   EXPECT_THROW(preprocess::PreprocessStage(context(), plan, options), Error);
   options.metric.min_depth_m = 0.3f;
+  options.metric.inverse_depth_bias_per_m = 0.2f;  // beyond kMaxInverseDepthBias_per_m
+  EXPECT_THROW(preprocess::PreprocessStage(context(), plan, options), Error);
+  options.metric.inverse_depth_bias_per_m = 0.0f;
 
   preprocess::PreprocessStage stage(context(), plan, options);
   const auto arena = gpu::MemoryArena::create(context(), plan);

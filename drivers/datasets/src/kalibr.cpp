@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/rig_calibration.hpp"
 #include "vifusion/core/time.hpp"
 
 namespace vifusion::datasets {
@@ -230,12 +231,21 @@ RigCalibration readKalibr(const std::filesystem::path& camchain_imucam_yaml, con
 RigCalibration readCalibrationYaml(const std::filesystem::path& path) {
   RigCalibration calibration;
   const Document doc = load(path);
-  checkKeys(doc, doc.root, {"cam0", "imu0", "depth_scale_m", "gravity_world", "static_accel_bias"}, "the top level");
+  checkKeys(doc, doc.root, {"cam0", "imu0", "depth_scale_m", "inverse_depth_bias_per_m", "gravity_world", "static_accel_bias"},
+            "the top level");
   readCamera(doc, require(doc, doc.root, "cam0"), calibration);
   readImu(doc, require(doc, doc.root, "imu0"), "imu0", calibration);
   if (const YAML::Node scale = doc.root["depth_scale_m"]) {
     calibration.depth_scale_m = toDouble(doc, scale, "depth_scale_m");
     if (calibration.depth_scale_m <= 0.0) throw Error(at(doc, scale) + "'depth_scale_m' must be > 0");
+  }
+  static_assert(kMaxInverseDepthBias_per_m == 0.1, "the message below quotes the bound");
+  if (const YAML::Node bias = doc.root["inverse_depth_bias_per_m"]) {
+    calibration.inverse_depth_bias_per_m = toDouble(doc, bias, "inverse_depth_bias_per_m");
+    if (!(std::abs(calibration.inverse_depth_bias_per_m) <= kMaxInverseDepthBias_per_m)) {
+      throw Error(at(doc, bias) + "'inverse_depth_bias_per_m' (1/z_raw − 1/z) must be within ±0.1 1/m, got " +
+                  bias.Scalar());
+    }
   }
   if (const YAML::Node gravity = doc.root["gravity_world"]) {
     calibration.g_W = toVector3(doc, gravity, "gravity_world");
@@ -288,6 +298,7 @@ void writeCalibrationYaml(const std::filesystem::path& path, const RigCalibratio
   out << YAML::EndMap;
 
   out << YAML::Key << "depth_scale_m" << YAML::Value << calibration.depth_scale_m;
+  out << YAML::Key << "inverse_depth_bias_per_m" << YAML::Value << calibration.inverse_depth_bias_per_m;
   out << YAML::Key << "gravity_world" << YAML::Value;
   vector(out, {calibration.g_W.x(), calibration.g_W.y(), calibration.g_W.z()});
   out << YAML::Key << "static_accel_bias" << YAML::Value;

@@ -12,8 +12,10 @@ void depthToMetricCpu(ImageView<const std::uint16_t> raw, const DepthToMetricPar
   for (int y = 0; y < params.height; ++y) {
     for (int x = 0; x < params.width; ++x) {
       const std::uint16_t value = raw(x, y);
-      const float z_m = static_cast<float>(value) * params.depth_scale_m;
-      const bool valid = value != 0 && z_m >= params.min_depth_m && z_m <= params.max_depth_m;
+      const float z_raw_m = static_cast<float>(value) * params.depth_scale_m;
+      const float denominator = 1.0f - params.inverse_depth_bias_per_m * z_raw_m;
+      const float z_m = z_raw_m / denominator;
+      const bool valid = value != 0 && denominator > 0.0f && z_m >= params.min_depth_m && z_m <= params.max_depth_m;
       depth_m(x, y) = valid ? z_m : 0.0f;
     }
   }

@@ -29,14 +29,15 @@ void TrackerOptions::validate() const {
   photometric.validate();
 }
 
-DenseTracker::DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, const PinholeCamera& camera,
-                           double depth_scale_m, const TrackerOptions& options)
+DenseTracker::DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, const RigCalibration& calibration,
+                           const TrackerOptions& options)
     : context_(context), options_(options) {
   options_.validate();
   preprocess::PreprocessOptions preprocess_options = options_.preprocess;
-  preprocess_options.camera = camera;
+  preprocess_options.camera = calibration.camera;
   preprocess_options.levels = options_.levels;
-  preprocess_options.metric.depth_scale_m = static_cast<float>(depth_scale_m);
+  preprocess_options.metric.depth_scale_m = static_cast<float>(calibration.depth_scale_m);
+  preprocess_options.metric.inverse_depth_bias_per_m = static_cast<float>(calibration.inverse_depth_bias_per_m);
   stage_ = std::make_unique<preprocess::PreprocessStage>(context, plan, preprocess_options);
   for (int l = 0; l < options_.levels; ++l) {
     const preprocess::LevelBuffers& current = stage_->level(l);

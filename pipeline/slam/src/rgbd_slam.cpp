@@ -49,7 +49,7 @@ RgbdSlam::RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, 
     : mode_(options.mode), time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns), T_S_C_(calibration.T_S_C) {
   options.validate();
   const PinholeCamera& camera = calibration.camera;
-  tracker_ = std::make_unique<DenseTracker>(context, plan_, camera, calibration.depth_scale_m, options.tracker);
+  tracker_ = std::make_unique<DenseTracker>(context, plan_, calibration, options.tracker);
   map_ = std::make_unique<map::MapBuffers>(plan_, options.map, camera);
   fusion_ = std::make_unique<map::SurfelFusion>(context, plan_, *map_, camera, options.fusion);
   maintenance_ = std::make_unique<map::MapMaintenance>(context, plan_, *map_, camera, options.maintenance);

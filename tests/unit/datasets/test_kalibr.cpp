@@ -91,6 +91,7 @@ TEST(Kalibr, CalibrationYamlRoundTrips) {
   RigCalibration original;
   original.camera = PinholeCamera::create(320, 240, 481.2, -480.0, 159.5, 119.5);
   original.depth_scale_m = 0.001;
+  original.inverse_depth_bias_per_m = 1.4232849416453174e-3;
   original.T_S_C = SE3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.2, -1.0, 0.5).normalized())),
                         Eigen::Vector3d(0.015, -0.0042, 0.031));
   original.time_shift_cam_imu_ns = 2'345'678;
@@ -108,6 +109,7 @@ TEST(Kalibr, CalibrationYamlRoundTrips) {
   EXPECT_EQ(read.camera.cx, 159.5);
   EXPECT_EQ(read.camera.cy, 119.5);
   EXPECT_EQ(read.depth_scale_m, 0.001);
+  EXPECT_EQ(read.inverse_depth_bias_per_m, original.inverse_depth_bias_per_m);
   EXPECT_MATRIX_NEAR(read.T_S_C.matrix(), original.T_S_C.matrix(), 1e-15);
   EXPECT_EQ(read.time_shift_cam_imu_ns, 2'345'678);
   EXPECT_EQ(read.g_W, original.g_W);
@@ -140,6 +142,22 @@ TEST(Kalibr, UnknownTopLevelKeyIsAnError) {
   std::ofstream(tmp / "calibration.yaml", std::ios::app) << "depth_scale: 0.001\n";
   expectError([&] { readCalibrationYaml(tmp / "calibration.yaml"); },
               "unknown key 'depth_scale' in the top level (expected one of: cam0, imu0, depth_scale_m");
+}
+
+TEST(Kalibr, InverseDepthBiasDefaultsToZeroAndAnImplausibleOneIsAnError) {
+  TempDir tmp;
+  writeText(tmp / "camchain-imucam.yaml", kCamchain);
+  writeText(tmp / "imu.yaml", kImuFlat);
+  RigCalibration calibration = readKalibr(tmp / "camchain-imucam.yaml", tmp / "imu.yaml");
+  EXPECT_EQ(calibration.inverse_depth_bias_per_m, 0.0);
+
+  calibration.inverse_depth_bias_per_m = -0.02;  // a stereo sensor reading far: allowed
+  writeCalibrationYaml(tmp / "calibration.yaml", calibration);
+  EXPECT_EQ(readCalibrationYaml(tmp / "calibration.yaml").inverse_depth_bias_per_m, -0.02);
+  calibration.inverse_depth_bias_per_m = 1.5;  // no finite depth beyond 0.67 m: a typo
+  writeCalibrationYaml(tmp / "calibration.yaml", calibration);
+  expectError([&] { readCalibrationYaml(tmp / "calibration.yaml"); },
+              "'inverse_depth_bias_per_m' (1/z_raw − 1/z) must be within ±0.1 1/m, got 1.5");
 }
 
 TEST(Kalibr, MisspeltNestedKeyIsAnErrorWithItsLine) {

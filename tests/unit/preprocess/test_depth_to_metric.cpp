@@ -58,6 +58,38 @@ TEST(DepthToMetric, TumScaleFiveThousandPerMetre) {
   EXPECT_NEAR(depth(1, 0), 2.5f, 1e-6f);
 }
 
+TEST(DepthToMetric, RemovesTheInverseDepthBiasBeforeTheGate) {
+  // 1/z = 1/z_raw − b with the simulated Kinect's b: z_raw 2 m is 2.0057 m, 3.99 m is 4.0127 m and
+  // falls out of the 4 m gate, 0.3 m stays 0.3001 m. A bias ≥ 1/z_raw (no finite depth) is invalid.
+  constexpr float kBias_per_m = 1.4232849e-3f;
+  const std::uint16_t values[4] = {10000, 19950, 1500, 0};
+  Image<std::uint16_t> raw(4, 1);
+  for (int x = 0; x < 4; ++x) raw(x, 0) = values[x];
+  DepthToMetricParams params{.width = 4, .height = 1, .depth_scale_m = 1.0f / 5000.0f,
+                             .inverse_depth_bias_per_m = kBias_per_m};
+  Image<float> depth(4, 1, -1.0f);
+  depthToMetricCpu(raw.view(), params, depth.view());
+  for (int x = 0; x < 3; ++x) {
+    const double z_raw_m = values[x] / 5000.0;
+    const double expected_m = 1.0 / (1.0 / z_raw_m - kBias_per_m);
+    if (x == 1) {
+      EXPECT_GT(expected_m, 4.0);
+      EXPECT_EQ(depth(x, 0), 0.0f);
+    } else {
+      EXPECT_NEAR(depth(x, 0), expected_m, 1e-6 * expected_m) << "x=" << x;
+    }
+  }
+  EXPECT_NEAR(depth(0, 0), 2.0057, 1e-4);
+  EXPECT_EQ(depth(3, 0), 0.0f);
+
+  params.inverse_depth_bias_per_m = 0.5f;  // 1/z_raw = 0.5 at 2 m: the corrected depth is infinite
+  params.max_depth_m = 1e9f;
+  depthToMetricCpu(raw.view(), params, depth.view());
+  EXPECT_EQ(depth(0, 0), 0.0f);
+  EXPECT_EQ(depth(1, 0), 0.0f);
+  EXPECT_NEAR(depth(2, 0), 0.3 / (1.0 - 0.15), 1e-6);
+}
+
 TEST(DepthToMetric, StridedOutputLeavesPaddingAlone) {
   Image<std::uint16_t> raw(3, 2, 1500);
   std::vector<float> storage(5 * 2, -7.0f);

@@ -22,6 +22,7 @@
 // calibration.yaml (our dataset directories) = `cam0:` as above + `imu0:` with the imu.yaml keys and
 // our optional gyroscope_saturation [rad/s], accelerometer_saturation [m/s²], gyroscope_bias_prior
 // [rad/s], accelerometer_bias_prior [m/s²], + top-level depth_scale_m [m per depth unit],
+// inverse_depth_bias_per_m [1/m] (RigCalibration: the sensor's 1/z reads this much too high),
 // gravity_world: [x, y, z] [m/s², dataset world W], static_accel_bias: [x, y, z] [m/s²].
 //
 // Every mapping's keys are checked: an unknown or misspelt key is an error naming it and its line,

@@ -23,13 +23,16 @@ inline constexpr std::uint32_t kDefaultWorkgroupSize = 16;
 /// shaders/include/preprocess/common.glsl. Weights and their products are exact in float; they sum to 1.
 inline constexpr float kPyramidWeights[5] = {0.0625f, 0.25f, 0.375f, 0.25f, 0.0625f};
 
-/// depth_to_metric.comp: raw uint16 depth → metres, gated to [min_depth_m, max_depth_m].
+/// depth_to_metric.comp: raw uint16 depth → metres, gated to [min_depth_m, max_depth_m]. The sensor's
+/// systematic error is removed first: z = z_raw / (1 − b·z_raw), z_raw = raw·depth_scale_m, which is
+/// 1/z = 1/z_raw − b (RigCalibration::inverse_depth_bias_per_m); b = 0 leaves z_raw bit for bit.
 struct DepthToMetricParams {
-  std::int32_t width = 0;         ///< image width [px]
-  std::int32_t height = 0;        ///< image height [px]
-  float depth_scale_m = 0.001f;   ///< metres per raw unit: 0.001 for millimetre sensors, 1/5000 for TUM/ICL-NUIM
-  float min_depth_m = 0.3f;       ///< smallest kept depth [m], inclusive
-  float max_depth_m = 4.0f;       ///< largest kept depth [m], inclusive
+  std::int32_t width = 0;                ///< image width [px]
+  std::int32_t height = 0;               ///< image height [px]
+  float depth_scale_m = 0.001f;          ///< metres per raw unit: 0.001 for millimetre sensors, 1/5000 for TUM/ICL-NUIM
+  float min_depth_m = 0.3f;              ///< smallest kept depth [m], inclusive (after the correction)
+  float max_depth_m = 4.0f;              ///< largest kept depth [m], inclusive (after the correction)
+  float inverse_depth_bias_per_m = 0.0f; ///< b: the sensor's 1/z reads b too high [1/m]
 };
 
 /// bilateral_depth.comp: edge-preserving depth smoothing. Window and σ_space are ElasticFusion's;
@@ -127,10 +130,11 @@ inline constexpr bool kIsPushConstantBlock = std::is_standard_layout_v<T> && std
                                              sizeof(T) % 4 == 0 && sizeof(T) <= kMaxPushConstantBytes;
 
 static_assert(kIsPushConstantBlock<DepthToMetricParams>);
-static_assert(sizeof(DepthToMetricParams) == 20);
+static_assert(sizeof(DepthToMetricParams) == 24);
 static_assert(offsetof(DepthToMetricParams, depth_scale_m) == 8);
 static_assert(offsetof(DepthToMetricParams, min_depth_m) == 12);
 static_assert(offsetof(DepthToMetricParams, max_depth_m) == 16);
+static_assert(offsetof(DepthToMetricParams, inverse_depth_bias_per_m) == 20);
 
 static_assert(kIsPushConstantBlock<BilateralDepthParams>);
 static_assert(sizeof(BilateralDepthParams) == 32);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "vifusion/core/pinhole_camera.hpp"
+#include "vifusion/core/rig_calibration.hpp"
 #include "vifusion/core/se3.hpp"
 #include "vifusion/core/sensor_data.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
@@ -82,9 +83,9 @@ struct TrackingResult {
 
 class DenseTracker {
  public:
-  /// Declares the preprocessing, reference-view and term buffers in `plan`. `depth_scale_m` is the
-  /// metres per raw depth unit of the source.
-  DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, const PinholeCamera& camera, double depth_scale_m,
+  /// Declares the preprocessing, reference-view and term buffers in `plan`, for the calibration's camera
+  /// and depth units and bias.
+  DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, const RigCalibration& calibration,
                const TrackerOptions& options);
   ~DenseTracker();
 

@@ -18,7 +18,6 @@ constexpr std::uint64_t kColourStreamRg = 3;
 constexpr std::uint64_t kColourStreamB = 4;
 constexpr std::uint64_t kDotPatternSeed = 0x4b696e656374ULL;  // fixed projector pattern
 
-constexpr double kKinectConstant_cm = 35130.0;  // simkinect's depth-banding constant
 constexpr int kCell_px = 3;                     // one projector dot per 3×3 cell
 constexpr int kWindowRadius_px = 4;             // 9×9 window of the dot filter
 constexpr double kInlierDistance_px = 0.1;      // disparity inlier threshold, after weighting
@@ -219,9 +218,9 @@ void SensorNoise::fillAndAddNoise(ImageView<std::uint16_t> noisy_depth, std::uin
         const double z_cm = std::nearbyint(100.0 * fb_px_m / d_px);
         if (!(z_cm > 0.0)) continue;
         const double n = normal(options_.seed, kDepthStream, pixelCounter(frame_index, x, y, noisy_depth.width));
-        const double index = std::nearbyint(kKinectConstant_cm / z_cm + options_.depth_noise_sigma * n + 0.5);
+        const double index = std::nearbyint(kKinectBandingConstant_cm / z_cm + options_.depth_noise_sigma * n + 0.5);
         if (!(index > 0.0)) continue;
-        const double units = std::nearbyint(kKinectConstant_cm / index / 100.0 * options_.depth_scale);
+        const double units = std::nearbyint(kKinectBandingConstant_cm / index / 100.0 * options_.depth_scale);
         if (units <= 65535.0) noisy_depth(x, y) = static_cast<std::uint16_t>(units);
       }
     }

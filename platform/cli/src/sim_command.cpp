@@ -83,6 +83,7 @@ int runSim(const SimOptions& options) {
   calibration.camera = PinholeCamera::create(options.width, options.height, 481.2 * scale, 480.0 * scale,
                                              0.5 * options.width - 0.5, 0.5 * options.height - 0.5);
   calibration.depth_scale_m = 1.0 / 5000.0;
+  calibration.inverse_depth_bias_per_m = options.noise ? scene::kSimulatedInverseDepthBias_per_m : 0.0;
   calibration.T_S_C = fit.T_S_C;
   calibration.imu = ImuNoiseParams::preset(options.imu);
   calibration.g_W = options.up == "z" ? Eigen::Vector3d(0, 0, -calibration.imu.gravity_mps2)

@@ -130,6 +130,43 @@ TEST(SensorNoise, DepthErrorGrowsWithDistanceAsTheModelSays) {
   EXPECT_GT(std::sqrt(measured[3] / count[3]), 3.0 * std::sqrt(measured[0] / count[0]));
 }
 
+TEST(SensorNoise, InverseDepthIsBiasedByTheConstantTheSimulatorCalibrates) {
+  // Steps 1, 2 and 4 on the floor view of the test above: the mean of 1/z_noisy − 1/z is
+  // kSimulatedInverseDepthBias_per_m at every distance, which is what makes it a calibration constant
+  // (one number in 1/z for all depths). The jitter dithers the disparity and centimetre steps, which
+  // otherwise leave ±1e-3 1/m of structured error per bin. The dot pattern (step 3) is left out: on
+  // this steep floor its fill adds a slope-dependent +0.5e-3 1/m at 1–3 m (0 beyond), a property of
+  // the geometry that no per-sensor constant can hold; on the living-room frames it is negligible
+  // (corrected, living_room_2's depth is within 0.2 % of the clean depth, 0.01 % in most frames).
+  const LivingRoom bare(std::vector<BoxSpec>{});
+  const Frame clean = render(bare, lookAt(Eigen::Vector3d(-0.1, 0.6, 1.6), Eigen::Vector3d(3.85, 0.0, -3.2)));
+  SensorNoiseOptions options;
+  options.dot_pattern = false;
+  Image<std::uint16_t> noisy(640, 480);
+  std::array<double, 4> sum_per_m{};
+  std::array<int, 4> count{};
+  for (std::uint64_t frame = 0; frame < 4; ++frame) {
+    SensorNoise(options, pool()).addDepthNoise(clean.depth_m.view(), noisy.view(), frame);
+    for (int v = 0; v < 480; ++v) {
+      for (int u = 0; u < 640; ++u) {
+        const double z_m = clean.depth_m(u, v);
+        const auto bin = static_cast<std::size_t>(std::floor(z_m) - 1.0);
+        if (noisy(u, v) == 0 || !(z_m >= 1.0) || bin >= sum_per_m.size()) continue;
+        sum_per_m[bin] += options.depth_scale / noisy(u, v) - 1.0 / z_m;
+        ++count[bin];
+      }
+    }
+  }
+  for (std::size_t b = 0; b < sum_per_m.size(); ++b) {
+    ASSERT_GT(count[b], 10000) << "bin " << b + 1 << " m";
+    const double mean_per_m = sum_per_m[b] / count[b];
+    std::printf("mean inverse-depth error at %zu–%zu m: %.3e 1/m (calibrated %.3e)\n", b + 1, b + 2, mean_per_m,
+                kSimulatedInverseDepthBias_per_m);
+    EXPECT_NEAR(mean_per_m, kSimulatedInverseDepthBias_per_m, 0.05 * kSimulatedInverseDepthBias_per_m)
+        << "bin " << b + 1 << " m";
+  }
+}
+
 TEST(SensorNoise, SameSeedAndFrameGiveTheSameImagesForAnyThreadCount) {
   const Frame clean = render(room(), test::furnishedView());
   RowPool one(1);

@@ -1,4 +1,4 @@
-// The whole RGB-D pipeline (slam::RgbdSlam: preprocessing, frame-to-model tracking, fusion, map upkeep
+// The whole RGB-D pipeline (slam::Slam: preprocessing, frame-to-model tracking, fusion, map upkeep
 // and prediction) on the synthetic living room, at 640×480 and 320×240, beside OpenCV's frame-to-frame
 // cv::rgbd::RgbdICPOdometry on the same frames, with the ATE of both against the simulator's ground
 // truth, so that speed is never compared at broken accuracy. The goals (not tests): ≥ 15 frames/s
@@ -46,7 +46,7 @@
 #include <vector>
 
 #include "vifusion/eval/metrics.hpp"
-#include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/slam/slam.hpp"
 #include "bench_options.hpp"
 #include "bench_sequence.hpp"
 #include "opencv_odometry.hpp"
@@ -62,7 +62,7 @@ void rgbdSlam(benchmark::State& state, Size size) {
   const Sequence& sequence = sequenceFor(size);
   slam::SlamOptions slam_options;  // defaults, as `vifusion run`
   slam_options.tracker.use_photometric = options().photometric;
-  slam::RgbdSlam pipeline(context(), sequence.calibration, slam_options);
+  slam::Slam pipeline(context(), sequence.calibration, slam_options);
   std::vector<eval::StampedPose> trajectory;
   trajectory.reserve(sequence.frames.size());
   // Frame 0 defines W and only starts the map (no tracking): it is the warm-up, not timed.

@@ -99,7 +99,7 @@ StepPipeline::StepPipeline(const RigCalibration& calibration, const slam::SlamOp
       recorder.hostReadBarrier();
     });
   }
-  // As RgbdSlam::recordMapUpdate: predicted maps → reference view, then its intensity pyramid and gradients.
+  // As Slam::recordMapUpdate: predicted maps → reference view, then its intensity pyramid and gradients.
   reference_copy = gpu::CommandSequence::create(ctx, "bench.reference_copy");
   reference_copy->record([&](gpu::CommandRecorder& recorder) {
     slam::recordPredictionAsReference(recorder, *arena, *prediction, *tracker);

@@ -1,5 +1,5 @@
 #pragma once
-// The kernels of slam::RgbdSlam built on their own, one command sequence per step, for
+// The kernels of slam::Slam built on their own, one command sequence per step, for
 // bench_rgbd_slam's per-step entry (rgbd_slam_steps.hpp).
 
 #include <array>
@@ -15,14 +15,14 @@
 #include "vifusion/map/map_maintenance.hpp"
 #include "vifusion/map/model_prediction.hpp"
 #include "vifusion/map/surfel_fusion.hpp"
-#include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/slam/slam.hpp"
 #include "vifusion/tracking/icp_term.hpp"
 #include "vifusion/tracking/photometric_term.hpp"
 
 namespace vifusion::bench {
 
-/// The kernels of RgbdSlam built on their own, each step in its own command sequence (per
-/// surfel-array parity where it matters), in RgbdSlam's order: upload, preprocess steps, tracking
+/// The kernels of Slam built on their own, each step in its own command sequence (per
+/// surfel-array parity where it matters), in Slam's order: upload, preprocess steps, tracking
 /// (each dense term at each level in its own submission), fusion steps, cleanup, compaction, flip,
 /// prediction, the copies of the prediction into the tracker's reference view and the reference's
 /// intensity pyramid and gradients. Fusion uses the ground-truth poses (relative to the first

@@ -13,7 +13,7 @@
 #include "counting_vulkan.hpp"
 #include "gpu_test_environment.hpp"
 #include "rendered_pan.hpp"
-#include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/slam/slam.hpp"
 
 namespace vifusion {
 namespace {
@@ -34,7 +34,7 @@ TEST_F(GpuTest, RgbdSlamFollowsARenderedPan) {
   const Pan pan = renderPan(calibration.camera);
   slam::SlamOptions options;
   options.map.capacity = 200'000;
-  slam::RgbdSlam slam(context(), calibration, options);
+  slam::Slam slam(context(), calibration, options);
   for (std::size_t i = 0; i < 20; ++i) {
     const slam::FrameResult result = slam.process(pan.frames[i]);
     ASSERT_FALSE(result.lost) << "frame " << i;
@@ -52,7 +52,7 @@ TEST_F(GpuTest, RgbdSlamAllocatesNothingOverFiveHundredFrames) {
 
   slam::SlamOptions options;
   options.map.capacity = 200'000;
-  slam::RgbdSlam slam(context(), calibration, options);
+  slam::Slam slam(context(), calibration, options);
   const test::VulkanCallCounts after_start_up = vulkanCallCounts();
 
   constexpr int kFrames = 500;

@@ -17,7 +17,7 @@
 #include "gpu_test_environment.hpp"
 #include "rendered_pan.hpp"
 #include "vifusion/map/map_maintenance.hpp"
-#include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/slam/slam.hpp"
 
 namespace vifusion {
 namespace {
@@ -30,7 +30,7 @@ TEST_F(GpuTest, RgbdSlamKeepsTrackingWhenTheMapIsFull) {
   slam::SlamOptions options;
   options.map.capacity = 20'000;
   options.map.time_window_frames = 30;  // surfels become stable, then inactive, before the camera returns
-  slam::RgbdSlam slam(context(), calibration, options);
+  slam::Slam slam(context(), calibration, options);
   const auto full_count = static_cast<std::uint32_t>(map::MaintenanceOptions{}.full_fraction * options.map.capacity);
 
   constexpr std::size_t kFrames = 320;

@@ -10,7 +10,7 @@
 // C allocations of Cyclone DDS and the Vulkan driver). The frames are a rendered pan that tracks without
 // a lost frame, so every frame goes through tracking AND fusion. The map snapshot
 // (map_publish_period_s) is off: it is periodic, not per frame, and allocates while the map grows
-// (RgbdSlam::exportMap).
+// (Slam::exportMap).
 //
 // In rgbdi mode the SLAM thread also hands each frame the IMU stream (RecordedImuFeed, as vifusiond
 // does for a recorded source) and the publisher adds rt/vifusion/imu_state and the estimator's
@@ -216,7 +216,7 @@ void expectNoAllocationPerFrame(const std::string& mode, const RigCalibration& c
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(mode);
   slam_options.map.capacity = 200'000;
-  slam::RgbdSlam pipeline(*context, calibration, slam_options);
+  slam::Slam pipeline(*context, calibration, slam_options);
 
   FrameSlot slot;
   slot.frame = frame(0);  // every ring slot sized like a frame, as vifusiond does

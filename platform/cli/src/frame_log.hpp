@@ -18,7 +18,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/slam/slam.hpp"
 
 namespace vifusion::cli {
 

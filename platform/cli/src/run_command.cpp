@@ -15,7 +15,7 @@
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/map/surfel_ply.hpp"
-#include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/slam/slam.hpp"
 
 namespace vifusion::cli {
 namespace {
@@ -55,7 +55,7 @@ int runPipeline(const RunOptions& options) {
   gpu::GpuOptions gpu_options;
   gpu_options.device = options.device;
   const auto context = gpu::GpuContext::create(gpu_options.withEnvironment());
-  slam::RgbdSlam pipeline(*context, reader->calibration(), slam_options);
+  slam::Slam pipeline(*context, reader->calibration(), slam_options);
 
   const std::size_t total = options.max_frames > 0 ? std::min<std::size_t>(options.max_frames, reader->frameCount())
                                                    : reader->frameCount();

@@ -68,12 +68,12 @@ int serve(const config::DaemonConfig& config) {
   notifier.extendTimeout(kStartupStepUsec);
   notifier.status("building the GPU pipeline");
   std::unique_ptr<gpu::GpuContext> context;
-  std::unique_ptr<slam::RgbdSlam> pipeline;
+  std::unique_ptr<slam::Slam> pipeline;
   try {
     gpu::GpuOptions gpu_options;
     gpu_options.device = config.device;
     context = gpu::GpuContext::create(gpu_options.withEnvironment());
-    pipeline = std::make_unique<slam::RgbdSlam>(*context, source->calibration(), slam_options);
+    pipeline = std::make_unique<slam::Slam>(*context, source->calibration(), slam_options);
   } catch (const std::exception& error) {
     logLine(LogLevel::Error, "GPU pipeline: %s", error.what());
     return config::kExitGpu;

@@ -9,7 +9,7 @@
 
 namespace vifusion::daemon {
 
-SlamWorker::SlamWorker(slam::RgbdSlam& pipeline, const map::MapOptions& map_options,
+SlamWorker::SlamWorker(slam::Slam& pipeline, const map::MapOptions& map_options,
                        const SlamWorkerOptions& options, SharedState& state)
     : pipeline_(pipeline), map_options_(map_options), options_(options), state_(state) {
   trajectory_.reserve(options.expected_frames);

@@ -2,7 +2,7 @@
 // The surfel map's prediction becomes the tracker's reference view: the predicted vertex and normal
 // maps of every level and the level-0 intensity are copied into DenseTracker::reference(l) (the coarser
 // intensities and all gradients follow from DenseTracker::recordReferenceIntensity). One function for
-// RgbdSlam's per-frame sequence and the benchmark's per-step pipeline, so both do the same work.
+// Slam's per-frame sequence and the benchmark's per-step pipeline, so both do the same work.
 
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/gpu/memory_arena.hpp"

@@ -1,7 +1,7 @@
 #pragma once
 // Where the SLAM thread gets each frame's IMU samples in the inertial modes (rgbdi, gyro).
 //
-// RgbdSlam::process(frame, imu) wants a time-sorted span of samples on the IMU clock that reaches at
+// Slam::process(frame, imu) wants a time-sorted span of samples on the IMU clock that reaches at
 // least from the previous frame through this one (and, before the first frame, the estimator's gravity
 // window); it finds the frame's part by binary search, so a longer span costs nothing. The feed hands
 // out that span once per frame, on the SLAM thread, without allocating.

@@ -18,7 +18,7 @@
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
-#include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/slam/slam.hpp"
 
 namespace vifusion::daemon {
 
@@ -36,7 +36,7 @@ inline constexpr std::int64_t kImuIssueLogPeriodNs = 5'000'000'000;
 
 class SlamWorker {
  public:
-  SlamWorker(slam::RgbdSlam& pipeline, const map::MapOptions& map_options, const SlamWorkerOptions& options,
+  SlamWorker(slam::Slam& pipeline, const map::MapOptions& map_options, const SlamWorkerOptions& options,
              SharedState& state);
   /// The thread body.
   void run();
@@ -46,7 +46,7 @@ class SlamWorker {
   /// Counts a refused frame and logs it, rate-limited.
   void reportImuIssue(std::int64_t frame_index, const imu::ImuSampleIssue& issue);
 
-  slam::RgbdSlam& pipeline_;
+  slam::Slam& pipeline_;
   map::MapOptions map_options_;
   SlamWorkerOptions options_;
   SharedState& state_;

@@ -86,12 +86,12 @@ struct FrameResult {
   std::optional<imu::ImuSampleIssue> imu_issue;  ///< why the IMU could not be used this frame
 };
 
-class RgbdSlam {
+class Slam {
  public:
   /// Sizes every GPU buffer (tracker, map, prediction) for the calibration's camera and allocates
   /// the arena once; records every command sequence once.
-  RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options);
-  ~RgbdSlam();
+  Slam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options);
+  ~Slam();
 
   /// Tracks and maps one frame. `imu` holds the IMU samples on the IMU clock (t_imu = t_cam +
   /// calibration.time_shift_cam_imu_ns), at least those since the previous frame (a whole recording's

@@ -1,4 +1,4 @@
-#include "vifusion/slam/rgbd_slam.hpp"
+#include "vifusion/slam/slam.hpp"
 
 #include <chrono>
 #include <string>
@@ -45,7 +45,7 @@ void SlamOptions::validate() const {
   prediction.validate();
 }
 
-RgbdSlam::RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options)
+Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options)
     : mode_(options.mode), time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns), T_S_C_(calibration.T_S_C) {
   options.validate();
   const PinholeCamera& camera = calibration.camera;
@@ -88,11 +88,11 @@ RgbdSlam::RgbdSlam(gpu::GpuContext& context, const RigCalibration& calibration, 
   }
 }
 
-RgbdSlam::~RgbdSlam() = default;
+Slam::~Slam() = default;
 
 // Fusion reads surfel array `parity` and the compaction writes the survivors to the other one, which
 // the prediction renders. The predicted maps are then copied into the tracker's reference view.
-void RgbdSlam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const {
+void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const {
   int predicted_parity = parity;
   if (fuse) {
     fusion_->record(recorder, parity);
@@ -108,7 +108,7 @@ void RgbdSlam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool 
   recorder.hostReadBarrier();
 }
 
-void RgbdSlam::trackRgbd(FrameResult& result) {
+void Slam::trackRgbd(FrameResult& result) {
   const TrackingResult tracking = tracker_->track(T_previous_current_);
   result.lost = tracking.lost;
   result.icp_inliers = tracking.icp_inliers;
@@ -121,7 +121,7 @@ void RgbdSlam::trackRgbd(FrameResult& result) {
   T_previous_current_ = tracking.lost ? SE3d() : tracking.T_ref_cur;
 }
 
-void RgbdSlam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result) {
+void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result) {
   dense_terms_->setReference(T_W_previous_);
   estimator::FrameSolve solve;
   result.imu_issue =
@@ -150,7 +150,7 @@ void RgbdSlam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> i
   result.state_variance = estimator_->covarianceDiagonal();
 }
 
-void RgbdSlam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
+void Slam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
                               FrameResult& result) {
   NavState x;
   if (previous != nullptr) x = *previous;
@@ -172,7 +172,7 @@ void RgbdSlam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> 
   result.state_variance = estimator_->covarianceDiagonal();
 }
 
-FrameResult RgbdSlam::process(const RgbdFrame& frame, std::span<const ImuSample> imu) {
+FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu) {
   FrameResult result;
   result.t_ns = frame.t_ns;
   const auto start = std::chrono::steady_clock::now();

@@ -20,6 +20,7 @@ TEST(SimDataset, ReadsBackWithConsistentGroundTruthAndCalibration) {
   const RigCalibration& calibration = reader->calibration();
   EXPECT_EQ(calibration.camera.width, 160);
   EXPECT_EQ(calibration.imu.rate_hz, 200.0);
+  EXPECT_EQ(calibration.inverse_depth_bias_per_m, 0.0);  // noise-free depth has no bias to remove
   EXPECT_EQ(reader->frameCount(), 31u);  // 1 s at 30 Hz, both ends included
   ASSERT_EQ(reader->groundTruth().size(), reader->frameCount());
   ASSERT_GE(reader->imu().size(), 200u);

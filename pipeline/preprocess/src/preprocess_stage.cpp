@@ -28,9 +28,9 @@ void PreprocessOptions::validate() const {
                 std::to_string(camera.width) + "x" + std::to_string(camera.height));
   }
   if (!(metric.depth_scale_m > 0.0f)) throw Error(field("metric.depth_scale_m") + " must be > 0");
+  static_assert(kMaxInverseDepthBias_per_m == 0.1, "the message below quotes the bound");
   if (!(std::abs(metric.inverse_depth_bias_per_m) <= kMaxInverseDepthBias_per_m)) {
-    throw Error(field("metric.inverse_depth_bias_per_m") + " must be within ±" + std::to_string(kMaxInverseDepthBias_per_m) +
-                " 1/m (a " + std::to_string(kMaxInverseDepthBias_per_m * 100.0) + " % depth error at 1 m), got " +
+    throw Error(field("metric.inverse_depth_bias_per_m") + " must be within ±0.1 1/m, got " +
                 std::to_string(metric.inverse_depth_bias_per_m));
   }
   if (!(metric.min_depth_m >= 0.0f) || !(metric.min_depth_m < metric.max_depth_m)) {

@@ -28,6 +28,7 @@ struct PresetSpec {
   double ramp_s = 0.0;  ///< time over which motion ramps in at the start and out at the end
   /// The motion as a function of path time τ ∈ [0, duration − ramp].
   std::function<CameraAim(double tau_s, double tau_total_s)> aim;
+  PresetTraits traits;
 };
 
 /// ∫₀ˣ (6s⁵ − 15s⁴ + 10s³) ds: the integral of smootherstep, so that τ'(t) rises from 0 to 1 with zero
@@ -130,11 +131,61 @@ CameraAim longAim(double tau, double tau_total) {
   return aim;
 }
 
+/// ∫₀^τ smoothStep(s, start, length) ds: how far a rate that smoothStep switches off has fallen behind.
+double smoothStepIntegral(double tau, double start, double length) {
+  if (tau <= start) return 0.0;
+  if (tau >= start + length) return length * smootherstepIntegral(1.0) + (tau - start - length);
+  return length * smootherstepIntegral((tau - start) / length);
+}
+
+// The paper's "quick rotation into an unmapped area": a slow walk across the room looking at its north
+// half (bookcase, TV), then a 180° turn in kTurnS (peak ≈ 4.2 rad/s) to the south half (door, armchair,
+// picture), which the camera has not seen — its horizontal field of view is ±34° and the heading stays
+// within ±0.25 rad of north before the turn, so only the side walls' far ends are shared — then a slow
+// walk looking there.
+CameraAim unmappedTurnAim(double tau, double /*tau_total*/) {
+  constexpr double kTurnStartS = 5.5;
+  constexpr double kTurnS = 1.4;
+  const double turn = smoothStep(tau, kTurnStartS, kTurnS);
+  CameraAim aim;
+  aim.p_W_m = {0.4 + 0.11 * tau + wave(0.04, 0.31, tau), 1.3 + wave(0.08, 0.17, tau, 0.6),
+               -0.3 + wave(0.25, 0.07, tau, 0.4)};
+  const double heading = pi + pi * turn + wave(0.2, 0.09, tau, 0.3) + wave(0.04, 0.37, tau);
+  aim.forward_W = direction(heading, wave(0.08, 0.13, tau, 1.1));
+  aim.roll_rad = wave(0.04, 0.21, tau);
+  return aim;
+}
+
+// A hand-held pan from a standing start, the quick-rotation case where the view leaves the map: the
+// camera turns at kPanRateRadS from the first frames on (the preset's ramp is 0.7 s), 410° in all, so
+// no part of the first view is in sight for most of it, then slows down and keeps looking around. The
+// position only sways like a standing person's hand (±4 cm).
+CameraAim fastPanAim(double tau, double /*tau_total*/) {
+  constexpr double kPanRateRadS = 2.3;
+  constexpr double kPanS = 2.6;   // at full rate
+  constexpr double kStopS = 1.0;  // slowing to a stop
+  CameraAim aim;
+  aim.p_W_m = {1.0 + wave(0.04, 0.29, tau) + wave(0.01, 0.43, tau, 0.9), 1.35 + wave(0.03, 0.23, tau, 0.3),
+               -0.3 + wave(0.04, 0.19, tau, 1.7)};
+  const double pan = kPanRateRadS * (tau - smoothStepIntegral(tau, kPanS, kStopS));
+  const double heading = 0.6 + pan + wave(0.5, 0.08, tau) + wave(0.06, 0.41, tau, 0.2);
+  aim.forward_W = direction(heading, wave(0.12, 0.15, tau, 0.8) + wave(0.03, 0.39, tau));
+  aim.roll_rad = wave(0.06, 0.27, tau, 0.5);
+  return aim;
+}
+
 PresetSpec spec(std::string_view name) {
-  if (name == "fast") return {20.0, 2.5, fastAim};
-  if (name == "quick_rotation") return {20.0, 2.5, quickRotationAim};
-  if (name == "white_wall") return {20.0, 2.5, whiteWallAim};
-  if (name == "long") return {60.0, 3.0, longAim};
+  constexpr PresetTraits kFast{.fit_subsample = kDefaultFitSubsample, .motion_blur = true};
+  // Turns and ramps of about a second need denser knots than 3 Hz, which missed unmapped_turn's 1.4 s turn
+  // by up to 1.2° and fast_pan's start by up to 2.8°: 10 Hz for the turn, 15 Hz for the pan's ramp.
+  constexpr PresetTraits kTurn{.fit_subsample = 3, .motion_blur = true};
+  constexpr PresetTraits kRamp{.fit_subsample = 2, .motion_blur = true};
+  if (name == "fast") return {20.0, 2.5, fastAim, kFast};
+  if (name == "quick_rotation") return {20.0, 2.5, quickRotationAim, kFast};
+  if (name == "white_wall") return {20.0, 2.5, whiteWallAim, {}};
+  if (name == "long") return {60.0, 3.0, longAim, {}};
+  if (name == "unmapped_turn") return {16.0, 2.5, unmappedTurnAim, kTurn};
+  if (name == "fast_pan") return {14.0, 0.7, fastPanAim, kRamp};
   std::string known;
   for (const std::string_view n : presetNames()) known += (known.empty() ? "" : ", ") + std::string(n);
   throw Error("unknown simulation preset '" + std::string(name) + "' (known: " + known + ")");
@@ -142,7 +193,11 @@ PresetSpec spec(std::string_view name) {
 
 }  // namespace
 
-std::vector<std::string_view> presetNames() { return {"fast", "quick_rotation", "white_wall", "long"}; }
+std::vector<std::string_view> presetNames() {
+  return {"fast", "quick_rotation", "white_wall", "long", "unmapped_turn", "fast_pan"};
+}
+
+PresetTraits presetTraits(std::string_view name) { return spec(name).traits; }
 
 std::vector<StampedPose> presetCameraPoses(std::string_view name) {
   const PresetSpec preset = spec(name);

@@ -76,7 +76,11 @@ int runSim(const SimOptions& options) {
 
   // Ground truth: the IMU-body spline through every 10th camera pose.
   const std::vector<sim::StampedPose> path = cameraPath(options);
-  const sim::TrajectoryFit fit = sim::fitTrajectory(path, defaultT_S_C());
+  const bool synthetic_preset = !options.preset.empty() && options.preset.rfind("living_room_", 0) != 0;
+  const sim::PresetTraits traits = synthetic_preset ? sim::presetTraits(options.preset) : sim::PresetTraits{};
+  sim::TrajectoryFitOptions fit_options;
+  fit_options.subsample = traits.fit_subsample;
+  const sim::TrajectoryFit fit = sim::fitTrajectory(path, defaultT_S_C(), fit_options);
 
   RigCalibration calibration;
   const double scale = options.width / 640.0;
@@ -107,8 +111,7 @@ int runSim(const SimOptions& options) {
   datasets::writeCalibrationYaml(std::filesystem::path(options.out) / "calibration.yaml", calibration);
 
   // Images at 30 Hz along the spline; stamps on whole microseconds so TUM text files hold them exactly.
-  const bool fast_preset = options.preset == "fast" || options.preset == "quick_rotation";
-  const int blur_samples = options.motion_blur_samples >= 0 ? options.motion_blur_samples : (fast_preset ? 5 : 0);
+  const int blur_samples = options.motion_blur_samples >= 0 ? options.motion_blur_samples : (traits.motion_blur ? 5 : 0);
   constexpr int64_t kExposureNs = 10'000'000;  // sub-frame renders span 10 ms around the frame time
   scene::LivingRoom room;
   scene::RowPool pool;

@@ -29,7 +29,9 @@ struct PresetFigures {
 };
 
 PresetFigures measure(std::string_view name) {
-  const TrajectoryFit fit = fitTrajectory(presetCameraPoses(name), test::exampleT_S_C());
+  TrajectoryFitOptions fit_options;
+  fit_options.subsample = presetTraits(name).fit_subsample;
+  const TrajectoryFit fit = fitTrajectory(presetCameraPoses(name), test::exampleT_S_C(), fit_options);
   ImuSimOptions options;
   options.add_noise = false;
   options.add_biases = false;
@@ -128,14 +130,58 @@ TEST(Presets, LongIsAClosedLoopAroundTheRoom) {
   EXPECT_MATRIX_NEAR(poses.front().T_world_body.matrix(), poses.back().T_world_body.matrix(), 1e-9);
 }
 
+TEST(Presets, UnmappedTurnTurnsHalfRoundIntoWhatItHasNotSeen) {
+  const PresetFigures f = measure("unmapped_turn");
+  expectInsideIclNuimBox(f, "unmapped_turn");
+  EXPECT_NEAR(f.duration_s, 16.0, 1e-6);
+  EXPECT_GT(f.peak_rate_rad_s, 3.5);
+  EXPECT_LT(f.peak_gyro_axis_rad_s, 7.8 * 0.8);
+  EXPECT_LT(f.peak_speed_mps, 0.4);
+  // Looking north (−z) before the turn, south after it, and the turn itself short.
+  double turn_start_s = -1.0, turn_end_s = -1.0;
+  for (const StampedPose& pose : presetCameraPoses("unmapped_turn")) {
+    const double forward_z = (pose.T_world_body.quaternion() * Eigen::Vector3d::UnitZ()).z();
+    const double t_s = nsToSeconds(pose.t_ns);
+    if (turn_start_s < 0.0 && forward_z > -0.85) turn_start_s = t_s;
+    if (turn_end_s < 0.0 && forward_z > 0.85) turn_end_s = t_s;
+  }
+  EXPECT_GT(turn_start_s, 6.0) << "the north half is mapped first";
+  EXPECT_LT(turn_end_s - turn_start_s, 1.2) << "a quick turn";
+  EXPECT_LT(turn_end_s, 9.0) << "and a long stretch in the south half after it";
+}
+
+TEST(Presets, FastPanLeavesTheFirstViewAtOnce) {
+  const PresetFigures f = measure("fast_pan");
+  expectInsideIclNuimBox(f, "fast_pan");
+  EXPECT_NEAR(f.duration_s, 14.0, 1e-6);
+  EXPECT_GT(f.peak_rate_rad_s, 2.4);
+  EXPECT_LT(f.peak_speed_mps, 0.25) << "standing: only the hand sways";
+  // 90° away from the first view within 1.2 s of the start.
+  const std::vector<StampedPose> poses = presetCameraPoses("fast_pan");
+  const Eigen::Vector3d first_W = poses.front().T_world_body.quaternion() * Eigen::Vector3d::UnitZ();
+  double quarter_turn_s = -1.0;
+  for (const StampedPose& pose : poses) {
+    if ((pose.T_world_body.quaternion() * Eigen::Vector3d::UnitZ()).dot(first_W) < 0.0) {
+      quarter_turn_s = nsToSeconds(pose.t_ns);
+      break;
+    }
+  }
+  EXPECT_GT(quarter_turn_s, 0.0);
+  EXPECT_LT(quarter_turn_s, 1.2);
+}
+
 TEST(Presets, AllStartAndEndAtRestAt30Hz) {
+  // At rest: the first and last frame periods move less than 20 µm (0.6 mm/s; fast_pan's 0.4 s ramp moves
+  // 4 µm, the others' 2.5–3 s ramps < 1 µm).
+  constexpr double kAtRestStepM = 2e-5;
   for (const std::string_view name : presetNames()) {
     const std::vector<StampedPose> poses = presetCameraPoses(name);
     EXPECT_EQ(poses[1].t_ns, 33'333'333) << name;
     EXPECT_EQ(poses[3].t_ns, 100'000'000) << name;
-    EXPECT_LT((poses[1].T_world_body.translation() - poses[0].T_world_body.translation()).norm(), 1e-6) << name;
+    EXPECT_LT((poses[1].T_world_body.translation() - poses[0].T_world_body.translation()).norm(), kAtRestStepM) << name;
     const std::size_t n = poses.size();
-    EXPECT_LT((poses[n - 1].T_world_body.translation() - poses[n - 2].T_world_body.translation()).norm(), 1e-6) << name;
+    EXPECT_LT((poses[n - 1].T_world_body.translation() - poses[n - 2].T_world_body.translation()).norm(), kAtRestStepM)
+        << name;
   }
   EXPECT_THROW(presetCameraPoses("slow"), Error);
 }

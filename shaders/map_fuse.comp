@@ -4,8 +4,10 @@
 // index), so the result does not depend on execution order.
 //
 // Measurement at pixel (u, v): position p_W = T_W_C·p, normal n_W = R_W_C·n, colour RGB, radius
-// r = √2·z/f̄ enlarged by 1/|n_z| (at most 2×), weight α = exp(−γ²/(2σ²)),
-// γ = ‖(u, v) − (cx, cy)‖ / ‖(cx, cy)‖. With c the surfel's confidence:
+// r = √2·z/f̄ enlarged by 1/|n_z| (at most 2×), weight α = exp(−γ²/(2σ²))·w_pose(z),
+// γ = ‖(u, v) − (cx, cy)‖ / ‖(cx, cy)‖, w_pose = 1 for a frame the dense terms registered and
+// σ_z²/(σ_z² + σ_pose²) for one the IMU carried (poseWeight in map/fusion_params.glsl). With c the
+// surfel's confidence:
 //   if r < radius_update_ratio · r_surfel: position, normal (renormalised), colour and radius
 //     become (c·old + α·new)/(c + α);
 //   always: confidence c + α, last update = frame.
@@ -43,7 +45,7 @@ void fuse(uint id, uint pixel_index) {
   const vec4 p = vertices[pixel_index];
   const vec4 n = normals[pixel_index];
   const ivec2 pixel = ivec2(int(pixel_index % uint(params.width)), int(pixel_index / uint(params.width)));
-  const float alpha = measurementConfidence(params, pixel);
+  const float alpha = measurementConfidence(params, pixel, p.z);
   const float radius_m = measurementRadius(params, p.z, n.z);
 
   Surfel s = surfels[id];

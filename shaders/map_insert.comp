@@ -16,8 +16,8 @@
 // A full map stops growing: the candidates beyond capacity are counted, never written (freeing
 // space is cleanup's job).
 //
-// New surfel from pixel (u, v): position T_W_C·p, normal R_W_C·n, radius and confidence α as in
-// map_fuse, colour the pixel's RGB, created = updated = frame.
+// New surfel from pixel (u, v): position T_W_C·p, normal R_W_C·n, radius and confidence α (with the
+// pose weight) as in map_fuse, colour the pixel's RGB, created = updated = frame.
 //
 // Bindings (set 0, std430):
 //   0  vertices      readonly  vec4[w·h]  camera frame [m]
@@ -76,7 +76,7 @@ Surfel newSurfel(uint i) {
   const vec4 n = normals[i];
   const ivec2 pixel = ivec2(int(i % uint(params.width)), int(i / uint(params.width)));
   Surfel s;
-  s.position_confidence = vec4(transformPoint(params.T_W_C_rows, p.xyz), measurementConfidence(params, pixel));
+  s.position_confidence = vec4(transformPoint(params.T_W_C_rows, p.xyz), measurementConfidence(params, pixel, p.z));
   s.normal_radius = vec4(rotateVector(params.T_W_C_rows, n.xyz), measurementRadius(params, p.z, n.z));
   s.colour_times = vec4(uintBitsToFloat(packRgb8(FUSION_RGB_OF_PIXEL(rgb_words, i))), float(params.frame),
                         float(params.frame), 0.0);

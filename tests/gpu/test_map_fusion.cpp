@@ -1,6 +1,7 @@
 // Surfel fusion on the GPU (index map, association, fusion, insertion): every kernel against its CPU
 // reference on real Kinect frames (7-Scenes), each fed the GPU's own input so a difference is that
-// kernel's; noise reduction of fusion on a synthetic plane; a map that overflows; determinism.
+// kernel's, also for a frame fused at an uncertain pose; noise reduction of fusion on a synthetic plane;
+// the pose weight of an uncertain frame; a map that overflows; determinism.
 
 #include <gtest/gtest.h>
 
@@ -33,7 +34,8 @@ using preprocess::VertexPixel;
 /// level-0 maps (synthetic scenes), with readback copies of everything the tests inspect.
 class MapRig {
  public:
-  MapRig(gpu::GpuContext& context, const PinholeCamera& camera, std::uint32_t capacity, bool use_preprocess)
+  MapRig(gpu::GpuContext& context, const PinholeCamera& camera, std::uint32_t capacity, bool use_preprocess,
+         const map::FusionOptions& fusion_options = kinectNoiseFusion())
       : camera_(camera) {
     map::MapOptions options;
     options.capacity = capacity;
@@ -55,7 +57,7 @@ class MapRig {
                                          gpu::MemoryUse::Upload);
     }
     rgb_words_ = inputs.rgb_words;
-    fusion_ = std::make_unique<map::SurfelFusion>(context, plan_, *map_, camera);
+    fusion_ = std::make_unique<map::SurfelFusion>(context, plan_, *map_, camera, fusion_options);
     surfels_ = mirror(map_->surfels(0));
     other_surfels_ = mirror(map_->surfels(1));
     index_depth_ = mirror(map_->indexDepth());
@@ -77,14 +79,21 @@ class MapRig {
     });
   }
 
+  /// The fusion options of the tests: the defaults with the tracker's Kinect depth-noise model.
+  static map::FusionOptions kinectNoiseFusion() {
+    map::FusionOptions options;
+    options.depth_noise = {0.0012f, 0.0019f, 0.4f};
+    return options;
+  }
+
   /// Fuses a real frame (through the preprocessing stage) as frame number `frame`.
-  void run(const test::SevenScenesFrame& input, std::uint32_t frame) {
+  void run(const test::SevenScenesFrame& input, std::uint32_t frame, const map::FusionPoseUncertainty& uncertainty = {}) {
     stage_->upload(input.depth_mm.view(), input.rgb.view());
-    run(input.T_W_C, frame);
+    run(input.T_W_C, frame, uncertainty);
   }
   /// Fuses the host-written maps (synthetic rigs) as frame number `frame`.
-  void run(const SE3d& T_W_C, std::uint32_t frame) {
-    fusion_->setFrame(T_W_C, frame);
+  void run(const SE3d& T_W_C, std::uint32_t frame, const map::FusionPoseUncertainty& uncertainty = {}) {
+    fusion_->setFrame(T_W_C, frame, uncertainty);
     sequence_->run();
   }
 
@@ -242,9 +251,12 @@ TEST_F(MapFusionGpuTest, EveryKernelMatchesItsCpuReferenceOnRealFrames) {
   expectFrameMatchesCpu(rig, before);
   EXPECT_GT(rig.state().surfel_count, 200'000u) << "a real frame gives most of its pixels as surfels";
 
+  // The last frame as if the IMU had carried its pose: its measurements are weighted down by the pose's
+  // uncertainty (1 cm, 2 mrad), on the GPU as on the CPU.
+  const map::FusionPoseUncertainty carried{1e-4, 4e-6};
   for (const auto& [index, frame] : {std::pair{155, 2u}, std::pair{160, 3u}}) {
     before = snapshot(rig);
-    rig.run(test::loadSevenScenesFrame(index), frame);
+    rig.run(test::loadSevenScenesFrame(index), frame, frame == 3u ? carried : map::FusionPoseUncertainty{});
     SCOPED_TRACE("frame " + std::to_string(index));
     expectFrameMatchesCpu(rig, before);
     const auto claimed = std::count_if(rig.surfelClaim().begin(), rig.surfelClaim().end(),
@@ -308,6 +320,44 @@ TEST_F(MapFusionGpuTest, FusingNoisyViewsOfAPlaneShrinksTheNoiseLikeOneOverRootN
   EXPECT_LT(rms.back(), 0.0025);
   const double ratio = rms.back() / rms.front();
   EXPECT_NEAR(ratio, 1.0 / std::sqrt(8.0), 0.25 / std::sqrt(8.0));
+}
+
+// A view fused at an uncertain pose counts for less: each of its measurements gets the inverse-variance
+// share σ_z²/(σ_z² + σ_r² + z²σ_θ²) of its radial confidence, and a registered view (no uncertainty) exactly 1.
+TEST_F(MapFusionGpuTest, AViewFusedAtAnUncertainPoseIsWeightedByItsShareOfTheVariance) {
+  const PlaneScene scene;
+  const map::FusionOptions options = MapRig::kinectNoiseFusion();
+  std::mt19937 rng(3);
+  const map::FusionPoseUncertainty carried{0.004 * 0.004, 0.002 * 0.002};  // 4 mm, 2 mrad
+  std::vector<float> confidence[2];
+  for (const int uncertain : {0, 1}) {
+    MapRig rig(context(), scene.camera, 50'000, false, options);
+    scene.render(rig, 0.0, rng);
+    rig.run(scene.T_W_C, 1, uncertain ? carried : map::FusionPoseUncertainty{});
+    ASSERT_EQ(rig.state().surfel_count, std::uint32_t(scene.camera.width * scene.camera.height));
+    for (std::uint32_t i = 0; i < rig.state().surfel_count; ++i) {
+      confidence[uncertain].push_back(rig.surfels()[i].position_confidence.w());
+    }
+  }
+  const SE3d T_C_W = scene.T_W_C.inverse();
+  MapRig geometry(context(), scene.camera, 50'000, false, options);
+  scene.render(geometry, 0.0, rng);
+  geometry.run(scene.T_W_C, 1);
+  double max_error = 0.0, min_weight = 1.0, max_weight = 0.0;
+  for (std::size_t i = 0; i < confidence[0].size(); ++i) {
+    const double z_m = (T_C_W * geometry.surfels()[i].position_confidence.head<3>().cast<double>()).z();
+    const double dz = z_m - options.depth_noise.z0_m;
+    const double sigma_z = options.depth_noise.a_m + options.depth_noise.b_per_m * dz * dz;
+    const double weight = sigma_z * sigma_z /
+                          (sigma_z * sigma_z + carried.position_variance_m2 + z_m * z_m * carried.rotation_variance_rad2);
+    max_error = std::max(max_error, std::abs(confidence[1][i] / confidence[0][i] - weight));
+    min_weight = std::min(min_weight, weight);
+    max_weight = std::max(max_weight, weight);
+  }
+  std::cout << "  pose weight over the plane " << min_weight << " … " << max_weight << ", largest error " << max_error << "\n";
+  EXPECT_LT(max_error, 1e-5);
+  EXPECT_LT(max_weight, 0.9) << "4 mm and 2 mrad must matter at 1.2–2 m, where σ_z is 2–6 mm";
+  EXPECT_GT(min_weight, 0.1);
 }
 
 TEST_F(MapFusionGpuTest, AFullMapCountsTheSurfelsItDropsAndNeverWritesPastTheEnd) {

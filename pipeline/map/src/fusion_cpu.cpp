@@ -40,11 +40,21 @@ Pixel pixelOf(const FusionParams& params, std::uint32_t index) {
   return {static_cast<int>(index % width), static_cast<int>(index / width)};
 }
 
-float measurementConfidence(const FusionParams& params, Pixel pixel) {
+float poseWeight(const FusionParams& params, float z_m) {
+  const float pose_variance_at_unit_depth = params.pose_position_variance_m2 + params.pose_rotation_variance_rad2;
+  if (!(pose_variance_at_unit_depth > 0.0f)) return 1.0f;
+  const float dz = z_m - params.depth_sigma_z0_m;
+  const float sigma_z = params.depth_sigma_a_m + params.depth_sigma_b_per_m * dz * dz;
+  const float sensor_variance = sigma_z * sigma_z;
+  return sensor_variance /
+         (sensor_variance + params.pose_position_variance_m2 + z_m * z_m * params.pose_rotation_variance_rad2);
+}
+
+float measurementConfidence(const FusionParams& params, Pixel pixel, float z_m) {
   const float du = static_cast<float>(pixel.x) - params.cx;
   const float dv = static_cast<float>(pixel.y) - params.cy;
   const float gamma_sq = (du * du + dv * dv) * params.inv_centre_norm_sq;
-  return std::exp(-gamma_sq * params.inv_two_sigma_sq);
+  return std::exp(-gamma_sq * params.inv_two_sigma_sq) * poseWeight(params, z_m);
 }
 
 float measurementRadius(const FusionParams& params, float z_m, float n_z) {
@@ -152,7 +162,7 @@ void fuseCpu(const MeasurementMaps& frame, const FusionParams& params, std::span
     const Pixel pixel = pixelOf(params, pixel_index);
     const Eigen::Vector4f& p = frame.vertices(pixel.x, pixel.y);
     const Eigen::Vector4f& n = frame.normals(pixel.x, pixel.y);
-    const float alpha = measurementConfidence(params, pixel);
+    const float alpha = measurementConfidence(params, pixel, p.z());
     const float radius_m = measurementRadius(params, p.z(), n.z());
 
     Surfel& s = surfels[id];
@@ -187,7 +197,7 @@ void insertCpu(const MeasurementMaps& frame, const FusionParams& params, std::sp
     const Eigen::Vector4f& n = frame.normals(pixel.x, pixel.y);
     Surfel& s = surfels[index];
     s.position_confidence.head<3>() = transformPoint(params.T_W_C_rows, p.head<3>());
-    s.position_confidence.w() = measurementConfidence(params, pixel);
+    s.position_confidence.w() = measurementConfidence(params, pixel, p.z());
     s.normal_radius.head<3>() = rotateVector(params.T_W_C_rows, n.head<3>());
     s.normal_radius.w() = measurementRadius(params, p.z(), n.z());
     s.colour_times = Eigen::Vector4f(0.0f, static_cast<float>(params.frame), static_cast<float>(params.frame), 0.0f);

@@ -31,10 +31,18 @@ void FusionOptions::validate() const {
   if (!(grazing_normal_z >= 0.0f && grazing_normal_z <= 1.0f)) {
     throw Error("fusion option 'grazing_normal_z' must be in 0..1");
   }
+  if (!(depth_noise.a_m >= 0.0f && depth_noise.b_per_m >= 0.0f && std::isfinite(depth_noise.z0_m))) {
+    throw Error("fusion option 'depth_noise' must have a, b ≥ 0 and a finite z0");
+  }
 }
 
 FusionParams FusionParams::make(const SE3d& T_W_C, std::uint32_t frame, const PinholeCamera& camera,
-                                const MapOptions& map, const FusionOptions& fusion) {
+                                const MapOptions& map, const FusionOptions& fusion,
+                                const FusionPoseUncertainty& uncertainty) {
+  if (!(uncertainty.position_variance_m2 >= 0.0) || !(uncertainty.rotation_variance_rad2 >= 0.0)) {
+    throw Error("fusion pose variances must be ≥ 0 (got " + std::to_string(uncertainty.position_variance_m2) + " m², " +
+                std::to_string(uncertainty.rotation_variance_rad2) + " rad²)");
+  }
   FusionParams params;
   copyRows(T_W_C.inverse(), params.T_C_W_rows);
   copyRows(T_W_C, params.T_W_C_rows);
@@ -55,6 +63,11 @@ FusionParams FusionParams::make(const SE3d& T_W_C, std::uint32_t frame, const Pi
   params.radius_update_ratio = fusion.radius_update_ratio;
   params.mean_focal_px = static_cast<float>(0.5 * (std::abs(camera.fx) + std::abs(camera.fy)));
   params.capacity = map.capacity;
+  params.pose_position_variance_m2 = static_cast<float>(uncertainty.position_variance_m2);
+  params.pose_rotation_variance_rad2 = static_cast<float>(uncertainty.rotation_variance_rad2);
+  params.depth_sigma_a_m = fusion.depth_noise.a_m;
+  params.depth_sigma_b_per_m = fusion.depth_noise.b_per_m;
+  params.depth_sigma_z0_m = fusion.depth_noise.z0_m;
   return params;
 }
 

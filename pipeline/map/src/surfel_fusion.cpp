@@ -121,8 +121,8 @@ void SurfelFusion::build(const gpu::MemoryArena& arena, const FusionInputs& inpu
   }
 }
 
-void SurfelFusion::setFrame(const SE3d& T_W_C, std::uint32_t frame) {
-  params_ = FusionParams::make(T_W_C, frame, camera_, map_.options(), options_);
+void SurfelFusion::setFrame(const SE3d& T_W_C, std::uint32_t frame, const FusionPoseUncertainty& uncertainty) {
+  params_ = FusionParams::make(T_W_C, frame, camera_, map_.options(), options_, uncertainty);
   std::memcpy(arena_->buffer(params_buffer_).mapped, &params_, sizeof(params_));
 }
 

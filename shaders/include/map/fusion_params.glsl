@@ -26,7 +26,14 @@ struct FusionParams {
   float radius_update_ratio;  // a measurement updates geometry only if r_new < ratio · r_old
   float mean_focal_px;        // f̄ = (|fx| + |fy|)/2 for the surfel radius [px]
   uint capacity;              // surfels the map array holds
-  uint pad0, pad1, pad2;
+  // The fusion pose's own uncertainty (0 for a frame registered to the map by the dense terms) and the
+  // sensor's axial noise σ_z(z) = a + b·(z − z0)², which together weight a measurement: poseWeight().
+  float pose_position_variance_m2;   // largest marginal variance of the camera position [m²]
+  float pose_rotation_variance_rad2; // largest marginal variance of the camera rotation [rad²]
+  float depth_sigma_a_m;             // a [m]
+  float depth_sigma_b_per_m;         // b [1/m]
+  float depth_sigma_z0_m;            // z0 [m]
+  uint pad0, pad1;
 };
 
 // The no-surfel and new-surfel markers of the per-pixel match buffer (values 1..capacity are
@@ -58,13 +65,26 @@ ivec2 projectToPixel(FusionParams params, vec3 p_C) {
   return ivec2(int(floor(u + 0.5)), int(floor(v + 0.5)));
 }
 
-// ElasticFusion's radial confidence of a measurement at pixel (u, v): 1 at the principal point,
-// ≈ 0.25 in the corners of a 640 × 480 image.
-float measurementConfidence(FusionParams params, ivec2 pixel) {
+// The share of a measurement at depth z that its frame's pose leaves trustworthy: the inverse-variance
+// weight σ_z² / (σ_z² + σ_p²) of a point whose sensor noise σ_z(z) is joined by the pose's σ_p² =
+// σ_r² + z²·σ_θ² (translation, and rotation swinging the point by z·θ). 1 exactly for a registered frame.
+float poseWeight(FusionParams params, float z_m) {
+  const float pose_variance_at_unit_depth = params.pose_position_variance_m2 + params.pose_rotation_variance_rad2;
+  if (!(pose_variance_at_unit_depth > 0.0)) return 1.0;
+  const float dz = z_m - params.depth_sigma_z0_m;
+  const float sigma_z = params.depth_sigma_a_m + params.depth_sigma_b_per_m * dz * dz;
+  const float sensor_variance = sigma_z * sigma_z;
+  return sensor_variance /
+         (sensor_variance + params.pose_position_variance_m2 + z_m * z_m * params.pose_rotation_variance_rad2);
+}
+
+// ElasticFusion's radial confidence of a measurement at pixel (u, v) — 1 at the principal point,
+// ≈ 0.25 in the corners of a 640 × 480 image — times the pose weight at its depth z.
+float measurementConfidence(FusionParams params, ivec2 pixel, float z_m) {
   const float du = float(pixel.x) - params.cx;
   const float dv = float(pixel.y) - params.cy;
   const float gamma_sq = (du * du + dv * dv) * params.inv_centre_norm_sq;
-  return exp(-gamma_sq * params.inv_two_sigma_sq);
+  return exp(-gamma_sq * params.inv_two_sigma_sq) * poseWeight(params, z_m);
 }
 
 // ElasticFusion's surfel radius: the pixel footprint √2·z/f̄, enlarged by 1/|n_z| for surfaces seen

@@ -4,7 +4,7 @@
 // whatever the execution order (see the shaders map_index/associate/fuse/insert.comp).
 //
 // Lifecycle: construct (declares its scratch buffers in the plan) → build(arena, inputs) once →
-// record(recorder) once per surfel-array parity → every frame setFrame(T_W_C, frame), submit.
+// record(recorder) once per surfel-array parity → every frame setFrame(T_W_C, frame, uncertainty), submit.
 // Per-frame values live in a host-written parameter buffer, so nothing is re-recorded or
 // allocated per frame.
 
@@ -51,9 +51,9 @@ class SurfelFusion {
   /// Creates the kernels and writes one binding set per surfel-array parity.
   void build(const gpu::MemoryArena& arena, const FusionInputs& inputs);
 
-  /// Writes the parameters of the next submission: pose T_W_C (camera → world) and frame number.
-  /// Call only while no submission that reads them is in flight.
-  void setFrame(const SE3d& T_W_C, std::uint32_t frame);
+  /// Writes the parameters of the next submission: pose T_W_C (camera → world), its uncertainty (zero
+  /// for a registered frame) and frame number. Call only while no submission that reads them is in flight.
+  void setFrame(const SE3d& T_W_C, std::uint32_t frame, const FusionPoseUncertainty& uncertainty = {});
   const FusionParams& params() const { return params_; }
 
   /// Records the whole fusion for surfel array `parity`, ending with a barrier that makes the map

@@ -14,6 +14,7 @@
 #include "vifusion/core/se3.hpp"
 #include "vifusion/tracking/icp_cpu.hpp"
 #include "vifusion/tracking/photometric_cpu.hpp"
+#include "vifusion/tracking/rotation_cpu.hpp"
 
 namespace vifusion::tracking {
 namespace {
@@ -121,6 +122,34 @@ TEST_F(DenseTermJacobians, PhotometricGradientMatchesCentralDifferencesOfTheCost
   // slope; on this smooth texture they agree to about a percent.
   EXPECT_LT((numeric - at.b).norm(), 0.03 * at.b.norm()) << "analytic " << at.b.transpose() << "\nnumeric  "
                                                          << numeric.transpose();
+}
+
+// The rotation pre-alignment's residual depends on the rotation only: b's rotation half is the gradient
+// of its cost under R ← exp(φ)·R, and its translation half is zero. The views differ by a pure rotation
+// (small enough, 0.9 px at the border, that every interior pixel stays inside the other image).
+TEST_F(DenseTermJacobians, RotationGradientMatchesCentralDifferencesOfTheCost) {
+  const Eigen::Quaterniond q_prev_cur_true = SE3d::exp((Eigen::Matrix<double, 6, 1>() << 0, 0, 0, 0.006, -0.008, 0.004).finished()).quaternion();
+  const View previous = render(camera_, SE3d(), 0);
+  const View current = render(camera_, SE3d(q_prev_cur_true, Eigen::Vector3d::Zero()), 0);
+  PhotometricOptions options;
+  options.huber_k = 1e9f;
+  options.min_gradient = 0.0f;
+  const auto equations = [&](const SE3d& T) {
+    return rotationNormalEquationsCpu(current.intensity.view(), previous.intensity.view(), previous.gradients.view(),
+                                      RotationParams::make(T.quaternion(), camera_, options));
+  };
+  const SE3d at_pose(SE3d::exp((Eigen::Matrix<double, 6, 1>() << 0, 0, 0, -0.004, 0.003, 0.005).finished()).quaternion() *
+                         q_prev_cur_true,
+                     Eigen::Vector3d::Zero());
+  const NormalEquations6 at = equations(at_pose);
+  ASSERT_GT(at.inliers, 3000.0);
+  EXPECT_EQ(at.b.head<3>().norm(), 0.0);
+  const Eigen::Matrix<double, 6, 1> numeric =
+      numericGradient([&](const SE3d& T) { return equations(T).weighted_squared_residual; }, at_pose, 1e-4);
+  EXPECT_LT(numeric.head<3>().norm(), 1e-9) << "translation does not enter the homography";
+  // As for the photometric term: the central-difference gradient image against the bilinear slope.
+  EXPECT_LT((numeric.tail<3>() - at.b.tail<3>()).norm(), 0.03 * at.b.norm()) << "analytic " << at.b.transpose()
+                                                                               << "\nnumeric  " << numeric.transpose();
 }
 
 }  // namespace

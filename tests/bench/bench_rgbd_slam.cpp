@@ -82,7 +82,7 @@ void rgbdSlam(benchmark::State& state, Size size) {
     tracking_ms += last.tracking_ms;
     mapping_ms += last.mapping_ms;
     iterations += last.iterations;
-    lost += last.lost ? 1 : 0;
+    lost += last.lost() ? 1 : 0;
   }
 
   const double timed = static_cast<double>(next - 1);

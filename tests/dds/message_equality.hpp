@@ -167,6 +167,7 @@ inline void expectSame(const msg::Status& a, const msg::Status& b, const std::st
   EXPECT_EQ(a.frames_processed, b.frames_processed) << path << ".frames_processed";
   EXPECT_EQ(a.lost_frames, b.lost_frames) << path << ".lost_frames";
   EXPECT_EQ(a.imu_issue_frames, b.imu_issue_frames) << path << ".imu_issue_frames";
+  EXPECT_EQ(a.imu_carried_frames, b.imu_carried_frames) << path << ".imu_carried_frames";
 }
 
 }  // namespace vifusion::dds::test

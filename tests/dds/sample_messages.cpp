@@ -92,6 +92,7 @@ SampleMessages::SampleMessages() {
   status.frames_processed = 123'456'789'012ULL;
   status.lost_frames = 42;
   status.imu_issue_frames = 7;
+  status.imu_carried_frames = 29;
 }
 
 }  // namespace vifusion::dds::test

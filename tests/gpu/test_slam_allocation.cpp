@@ -37,7 +37,7 @@ TEST_F(GpuTest, RgbdSlamFollowsARenderedPan) {
   slam::Slam slam(context(), calibration, options);
   for (std::size_t i = 0; i < 20; ++i) {
     const slam::FrameResult result = slam.process(pan.frames[i]);
-    ASSERT_FALSE(result.lost) << "frame " << i;
+    ASSERT_FALSE(result.lost()) << "frame " << i;
     const SE3d T_true = pan.T_W_C[0].inverse() * pan.T_W_C[i];
     const Eigen::Matrix<double, 6, 1> error = (T_true.inverse() * result.T_W_C).log();
     EXPECT_LT(error.head<3>().norm(), 3e-3) << "frame " << i << " translation [m]";
@@ -73,7 +73,7 @@ TEST_F(GpuTest, RgbdSlamAllocatesNothingOverFiveHundredFrames) {
       malloc_after_warm_up = mallocInUseBytes();
     }
     const slam::FrameResult result = slam.process(frame);
-    lost += result.lost ? 1 : 0;
+    lost += result.lost() ? 1 : 0;
   }
   const test::VulkanCallCounts after_frames = vulkanCallCounts();
   EXPECT_EQ(after_frames.allocate_memory, after_start_up.allocate_memory);

@@ -45,7 +45,7 @@ TEST_F(GpuTest, RgbdSlamKeepsTrackingWhenTheMapIsFull) {
     frame.t_ns = static_cast<std::int64_t>(i) * 33'333'333LL;
     frame.index = static_cast<std::int64_t>(i);
     const slam::FrameResult result = slam.process(frame);
-    lost += result.lost ? 1 : 0;
+    lost += result.lost() ? 1 : 0;
     const SE3d T_true = pan.T_W_C[0].inverse() * pan.T_W_C[k];
     const Eigen::Matrix<double, 6, 1> error = (T_true.inverse() * result.T_W_C).log();
     max_translation_m = std::max(max_translation_m, error.head<3>().norm());

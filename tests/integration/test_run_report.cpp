@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -50,25 +51,43 @@ FrameTable frameTable(const std::string& run_dir) {
   return table;
 }
 
-/// frames.csv agrees with report.json: one row per frame, stamps increasing, the lost frames and the
-/// final surfel count the report gives, `imu_used` on every frame in the inertial modes, and (in a
-/// `consistent` run) no dense solution refused by the estimator's gate.
+/// frames.csv agrees with report.json: one row per frame, stamps increasing, the frames and longest run
+/// of each tracking state and the final surfel count the report gives, `imu_used` on every frame in the
+/// inertial modes, and (in a `consistent` run) no dense solution refused by the estimator's gate.
 void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial, bool consistent = true) {
   const nlohmann::json r = report(run_dir);
   const FrameTable table = frameTable(run_dir);
   ASSERT_EQ(static_cast<int>(table.rows.size()), r.at("frames").get<int>());
   double lost = 0.0, imu = 0.0, evicted = 0.0, rejected = 0.0;
+  double state_frames[3] = {}, longest_run[3] = {}, run = 0.0;
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
+    const double state = table.at(i, "tracking");
+    ASSERT_TRUE(state == 0.0 || state == 1.0 || state == 2.0) << "row " << i;
+    const auto s = static_cast<std::size_t>(state);
+    state_frames[s] += 1.0;
+    run = i > 0 && table.at(i - 1, "tracking") == state ? run + 1.0 : 1.0;
+    longest_run[s] = std::max(longest_run[s], run);
+    EXPECT_EQ(table.at(i, "lost"), state == 2.0 ? 1.0 : 0.0) << "row " << i;
+    if (!inertial) {
+      EXPECT_NE(state, 1.0) << "only the inertial modes have an IMU to carry the pose, row " << i;
+    }
     lost += table.at(i, "lost");
     rejected += table.at(i, "vision_rejected");
-    EXPECT_LE(table.at(i, "vision_rejected"), table.at(i, "lost")) << "a refused frame is a lost frame, row " << i;
+    EXPECT_TRUE(table.at(i, "vision_rejected") == 0.0 || state != 0.0) << "a refused frame is not tracked, row " << i;
     imu += table.at(i, "imu");
     evicted += table.at(i, "evicted");
     if (i == 0) continue;  // the first frame starts the map: nothing to track against
     EXPECT_GT(table.at(i, "t_ns"), table.at(i - 1, "t_ns")) << "row " << i;
-    EXPECT_GT(table.at(i, "icp_inliers"), 0.2 * table.at(i, "icp_candidates")) << "row " << i;
+    if (state == 0.0) {
+      EXPECT_GT(table.at(i, "icp_inliers"), 0.2 * table.at(i, "icp_candidates")) << "row " << i;
+    }
   }
   EXPECT_EQ(lost, r.at("lost_frames").get<double>());
+  const char* names[3] = {"tracked", "imu_carried", "lost"};
+  for (std::size_t s = 0; s < 3; ++s) {
+    EXPECT_EQ(state_frames[s], r.at("tracking_states").at(names[s]).at("frames").get<double>()) << names[s];
+    EXPECT_EQ(longest_run[s], r.at("tracking_states").at(names[s]).at("longest_run").get<double>()) << names[s];
+  }
   EXPECT_EQ(table.at(table.rows.size() - 1, "surfels"), r.at("surfels").get<double>());
   EXPECT_EQ(evicted, r.at("map_evicted_surfels").get<double>());
   if (consistent) {
@@ -160,6 +179,20 @@ TEST(RunReport, RgbdInertialCrossesTheWhiteWall) {
   EXPECT_LT(inertial.at("ate_rmse_m").get<double>(), 0.050);
   EXPECT_GT(rgbd.at("ate_rmse_m").get<double>(), 3.0 * inertial.at("ate_rmse_m").get<double>());
   expectFramesCsvMatchesTheReport(VIFUSION_WHITE_WALL_RGBDI_RUN_DIR, true, false);
+}
+
+// Issue 15: the first 11 s of unmapped_turn at 320×240 in rgbdi (integration.run_rgbdi.unmapped_turn): a
+// 180° turn in 1.4 s into the half of the room the map has not seen. The stable map lags such a turn by
+// the ten observations a surfel needs; the photometric fill-in of the reference view and, where the dense
+// terms still fail, the IMU carrying the pose while the map grows at it keep the run from being lost.
+// Measured: 3.2 mm, 0 lost, 0 IMU-carried; before them (234f8fd) 108 mm with 107 frames lost for good.
+TEST(RunReport, RgbdInertialTurnsIntoTheUnmappedHalfOfTheRoom) {
+  const nlohmann::json r = report(VIFUSION_UNMAPPED_TURN_RUN_DIR);
+  EXPECT_EQ(r.at("frames").get<int>(), 331);
+  EXPECT_EQ(r.at("lost_frames").get<int>(), 0);
+  EXPECT_LE(r.at("tracking_states").at("imu_carried").at("longest_run").get<int>(), 30);
+  EXPECT_LT(r.at("ate_rmse_m").get<double>(), 0.010);
+  expectFramesCsvMatchesTheReport(VIFUSION_UNMAPPED_TURN_RUN_DIR, true, false);
 }
 
 }  // namespace

@@ -25,6 +25,9 @@ void TrackerOptions::validate() const {
     throw Error("tracker options 'motion_prior_sigma_m' and 'motion_prior_sigma_rad' must be > 0");
   }
   if (!(max_motion_innovation_m > 0.0)) throw Error("tracker option 'max_motion_innovation_m' must be > 0");
+  if (rotation_iterations < 1 || rotation_iterations > 100) {
+    throw Error("tracker option 'rotation_iterations' must be 1..100");
+  }
   icp.validate();
   photometric.validate();
 }
@@ -51,6 +54,8 @@ DenseTracker::DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, co
   }
   icp_ = std::make_unique<tracking::IcpTerm>(context, plan, options_.levels, options_.icp);
   photometric_ = std::make_unique<tracking::PhotometricTerm>(context, plan, options_.levels, options_.photometric);
+  rotation_ = std::make_unique<RotationPrealignment>(context, plan, *stage_, options_.photometric,
+                                                     options_.rotation_iterations, options_.converged_step);
 }
 
 DenseTracker::~DenseTracker() = default;
@@ -69,8 +74,16 @@ void DenseTracker::build(const gpu::MemoryArena& arena) {
   icp_->build(arena, icp_inputs);
   photometric_->build(arena, photometric_inputs);
 
+  // The frame before keeps its coarse images for the rotation pre-alignment, then the stage overwrites them.
+  rotation_->build(arena);
   preprocess_sequence_ = gpu::CommandSequence::create(context_, "tracker.preprocess");
-  preprocess_sequence_->record([&](gpu::CommandRecorder& recorder) { stage_->record(recorder); });
+  preprocess_sequence_->record([&](gpu::CommandRecorder& recorder) {
+    rotation_->recordKeepPrevious(recorder);
+    recorder.computeBarrier();
+    stage_->record(recorder);
+    recorder.computeBarrier();
+    rotation_->recordPyramid(recorder);
+  });
   gpu::KernelSpec gradient_spec;
   gradient_spec.name = "intensity_gradient";
   gradient_spec.spirv = shaders::intensity_gradient;
@@ -105,6 +118,7 @@ void DenseTracker::build(const gpu::MemoryArena& arena) {
 void DenseTracker::preprocess(const RgbdFrame& frame) {
   stage_->upload(frame.depth.view(), frame.rgb.view());
   preprocess_sequence_->run();
+  rotation_->framePreprocessed();
 }
 
 void DenseTracker::recordReferenceIntensity(gpu::CommandRecorder& recorder) const {
@@ -136,9 +150,11 @@ NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, Tracki
   statistics.icp_inliers = sum.inliers;
   statistics.icp_candidates = sum.candidates;
   statistics.rgb_inliers = 0.0;
+  statistics.valid_pixels = static_cast<double>(camera.width) * static_cast<double>(camera.height);
   if (options_.use_photometric) {
     const NormalEquations6 rgb = photometric_->result(level);
     statistics.rgb_inliers = rgb.inliers;
+    statistics.valid_pixels = rgb.candidates;
     sum += rgb;
   }
   return sum;
@@ -149,6 +165,11 @@ NormalEquations6 DenseTracker::icpEquations(int level) const { return icp_->resu
 // Gauss-Newton coarse to fine over the dense terms plus a weak constant-velocity prior on the change
 // from the guess (r = log(T_ref_cur·guess⁻¹), Jacobian ≈ I), which holds what no term determines; at
 // the coarse levels the ICP's degenerate translation directions are left to the other two.
+SE3d DenseTracker::prealignRotation(const SE3d& T_prev_cur_guess) const {
+  if (!options_.rotation_prealignment) return T_prev_cur_guess;
+  return SE3d(rotation_->align(T_prev_cur_guess.quaternion()), T_prev_cur_guess.translation());
+}
+
 TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
   TrackingResult result;
   result.T_ref_cur = T_ref_cur_guess;

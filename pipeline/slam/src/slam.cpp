@@ -43,20 +43,32 @@ void SlamOptions::validate() const {
   fusion.validate();
   maintenance.validate();
   prediction.validate();
+  carry.validate();
 }
 
 Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options)
-    : mode_(options.mode), time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns), T_S_C_(calibration.T_S_C) {
+    : mode_(options.mode),
+      carry_(options.carry),
+      time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns),
+      T_S_C_(calibration.T_S_C) {
   options.validate();
   const PinholeCamera& camera = calibration.camera;
   tracker_ = std::make_unique<DenseTracker>(context, plan_, calibration, options.tracker);
   map_ = std::make_unique<map::MapBuffers>(plan_, options.map, camera);
-  fusion_ = std::make_unique<map::SurfelFusion>(context, plan_, *map_, camera, options.fusion);
+  // One depth-noise model for tracking and fusion: the ICP's.
+  const tracking::IcpOptions& icp = options.tracker.icp;
+  map::FusionOptions fusion = options.fusion;
+  fusion.depth_noise = {icp.sigma_z_a_m, icp.sigma_z_b_per_m, icp.sigma_z_z0_m};
+  far_depth_m_ = options.tracker.preprocess.metric.max_depth_m;
+  const double far_dz_m = far_depth_m_ - icp.sigma_z_z0_m;
+  far_depth_sigma_m_ = icp.sigma_z_a_m + icp.sigma_z_b_per_m * far_dz_m * far_dz_m;
+  fusion_ = std::make_unique<map::SurfelFusion>(context, plan_, *map_, camera, fusion);
   maintenance_ = std::make_unique<map::MapMaintenance>(context, plan_, *map_, camera, options.maintenance);
   map::PredictionOptions prediction = options.prediction;
   prediction.levels = options.tracker.levels;
   prediction_ = std::make_unique<map::ModelPrediction>(context, plan_, *map_, camera, prediction);
   exporter_ = std::make_unique<map::MapExport>(context, plan_, *map_);
+  reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_);
   if (mode_ != SlamMode::kRgbd) {
     estimator::EstimatorOptions estimator_options = options.estimator;
     estimator_options.mode =
@@ -79,6 +91,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   maintenance_->build(*arena_);
   prediction_->build(*arena_);
   exporter_->build(*arena_);
+  reference_fill_->build(*arena_);
   map_->reset(*arena_);
   for (int parity = 0; parity < 2; ++parity) {
     update_[parity] = gpu::CommandSequence::create(context, "slam.update" + std::to_string(parity));
@@ -91,7 +104,8 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
 Slam::~Slam() = default;
 
 // Fusion reads surfel array `parity` and the compaction writes the survivors to the other one, which
-// the prediction renders. The predicted maps are then copied into the tracker's reference view.
+// the prediction renders. The predicted maps are then copied into the tracker's reference view, and a fused
+// frame fills its holes for the photometric term.
 void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const {
   int predicted_parity = parity;
   if (fuse) {
@@ -104,25 +118,60 @@ void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse
   prediction_->record(recorder, predicted_parity);
   recordPredictionAsReference(recorder, *arena_, *prediction_, *tracker_);
   recorder.computeBarrier();
+  if (fuse) {  // a lost frame's pose is a guess: its maps stay out of the reference too
+    reference_fill_->record(recorder);
+    recorder.computeBarrier();
+  }
   tracker_->recordReferenceIntensity(recorder);
   recorder.hostReadBarrier();
 }
 
+namespace {
+
+/// The recovery's choice between two guesses: a verified one over a lost one, else the one with more ICP
+/// inliers (both lost: the second, the continued motion, is the better guess of where the camera is).
+const TrackingResult& better(const TrackingResult& a, const TrackingResult& b) {
+  if (a.lost != b.lost) return a.lost ? b : a;
+  if (a.lost) return b;
+  return a.icp_inliers > b.icp_inliers ? a : b;
+}
+
+}  // namespace
+
 void Slam::trackRgbd(FrameResult& result) {
-  const TrackingResult tracking = tracker_->track(T_previous_current_);
-  result.lost = tracking.lost;
+  // The motion since the previous frame as it was, its rotation pre-aligned to the previous frame's images.
+  const SE3d motion = tracker_->prealignRotation(T_previous_current_);
+  TrackingResult tracking;
+  if (rgbd_lost_frames_ == 0) {
+    tracking = tracker_->track(motion);
+    T_reference_guess_ = motion;
+  } else {
+    // The reference is still the last tracked view: the camera is back at (or never left) that pose, or it
+    // kept moving as it did; whichever guess tracks, verified, wins.
+    T_reference_guess_ = T_reference_guess_ * motion;
+    const TrackingResult back = tracker_->track(SE3d());
+    const TrackingResult moving = tracker_->track(T_reference_guess_);
+    tracking = better(back, moving);
+  }
+  result.tracking = tracking.lost ? TrackingState::kLost : TrackingState::kTracked;
   result.icp_inliers = tracking.icp_inliers;
   result.icp_candidates = tracking.icp_candidates;
   result.rgb_inliers = tracking.rgb_inliers;
   result.iterations = tracking.iterations;
-  // A lost frame keeps the constant-velocity guess for itself and is not fused, so the map stays
-  // clean; the velocity is then reset, so a run of lost frames stops instead of drifting away.
-  T_W_previous_ = T_W_previous_ * tracking.T_ref_cur;
-  T_previous_current_ = tracking.lost ? SE3d() : tracking.T_ref_cur;
+  if (tracking.lost) {
+    // Not fused, so the map stays clean; the pose is the continued motion's guess, and the velocity is kept
+    // for the next frame's guess.
+    ++rgbd_lost_frames_;
+    result.T_W_C = T_W_reference_ * T_reference_guess_;
+    return;
+  }
+  if (rgbd_lost_frames_ == 0) T_previous_current_ = tracking.T_ref_cur;  // only between consecutive frames
+  rgbd_lost_frames_ = 0;
+  result.T_W_C = T_W_reference_ * tracking.T_ref_cur;
 }
 
 void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result) {
-  dense_terms_->setReference(T_W_previous_);
+  dense_terms_->setReference(T_W_reference_);
   estimator::FrameSolve solve;
   result.imu_issue =
       estimator_->track(t_imu_ns, imu::bracketingSamples(imu, estimator_->t_ns(), t_imu_ns), dense_terms_.get(), solve);
@@ -133,7 +182,6 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
     return;
   }
   const TrackingResult& statistics = dense_terms_->statistics();
-  result.lost = !solve.vision_used;
   result.icp_inliers = statistics.icp_inliers;
   result.icp_candidates = statistics.icp_candidates;
   result.rgb_inliers = statistics.rgb_inliers;
@@ -142,24 +190,31 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
   result.vision_chi2 = solve.vision_chi2;
   result.vision_rejected = solve.vision_rejected;
   const NavState& x = estimator_->state();
-  const SE3d T_W_C(x.q_W_C, x.r_W_C);
-  T_previous_current_ = T_W_previous_.inverse() * T_W_C;
-  T_W_previous_ = T_W_C;
+  result.T_W_C = SE3d(x.q_W_C, x.r_W_C);
+  T_previous_current_ = T_W_reference_.inverse() * result.T_W_C;
+  rgbd_lost_frames_ = 0;  // the estimator carries the pose, lost or not
   result.inertial = true;
   result.state = x;
   result.state_variance = estimator_->covarianceDiagonal();
+  result.tracking = solve.vision_used ? TrackingState::kTracked : carriedOrLost(result);
+}
+
+TrackingState Slam::carriedOrLost(FrameResult& result) const {
+  result.pose_sigma_m = PoseVariance::of(result.state_variance).sigmaAt(far_depth_m_);
+  return result.pose_sigma_m <= carry_.max_pose_to_depth_sigma * far_depth_sigma_m_ ? TrackingState::kImuCarried
+                                                                                      : TrackingState::kLost;
 }
 
 void Slam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
                               FrameResult& result) {
   NavState x;
   if (previous != nullptr) x = *previous;
-  x.r_W_C = T_W_previous_.translation();
-  x.q_W_C = T_W_previous_.quaternion();
+  x.r_W_C = result.T_W_C.translation();
+  x.q_W_C = result.T_W_C.quaternion();
   if (previous == nullptr) {
     const std::int64_t window_ns = estimator_->options().gravity_window_ns;
     const std::span<const ImuSample> window = imu::bracketingSamples(imu, t_imu_ns - window_ns, t_imu_ns);
-    const auto gravity = estimator::initialGravity(window, T_W_previous_, T_S_C_);
+    const auto gravity = estimator::initialGravity(window, result.T_W_C, T_S_C_);
     if (!gravity) {  // nothing to start from yet: try again at the next frame
       if (!result.imu_issue) result.imu_issue = imu::ImuSampleIssue{imu::ImuSampleProblem::kNoSamples, t_imu_ns, t_imu_ns};
       return;
@@ -180,7 +235,8 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
   result.preprocess_ms = msSince(start);
 
   const std::int64_t t_imu_ns = frame.t_ns + time_shift_cam_imu_ns_;
-  if (frame_index_ > 0) {  // the first frame defines W and only starts the map
+  result.T_W_C = T_W_reference_;  // the first frame defines W (identity) and only starts the map
+  if (frame_index_ > 0) {
     const auto track_start = std::chrono::steady_clock::now();
     if (estimator_ && estimator_->initialised()) {
       trackInertial(t_imu_ns, imu, result);
@@ -190,20 +246,27 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
     result.tracking_ms = msSince(track_start);
   }
   if (estimator_ && !estimator_->initialised()) startEstimator(t_imu_ns, imu, nullptr, result);
-  result.T_W_C = T_W_previous_;
+  // The next frame's reference is rendered here, except while RGB-D tracking is lost (trackRgbd).
+  if (rgbd_lost_frames_ == 0) T_W_reference_ = result.T_W_C;
 
   const auto map_start = std::chrono::steady_clock::now();
   const SE3d T_C_W = result.T_W_C.inverse();
   const int parity = map_->current();
-  prediction_->setView(T_C_W, frame_index_);
-  if (result.lost) {
+  prediction_->setView(T_W_reference_.inverse(), frame_index_);
+  if (result.lost()) {
     predict_only_[parity]->run();
   } else {
-    fusion_->setFrame(result.T_W_C, frame_index_);
+    map::FusionPoseUncertainty uncertainty;
+    if (result.tracking == TrackingState::kImuCarried) {
+      const PoseVariance variance = PoseVariance::of(result.state_variance);
+      uncertainty = {variance.position_m2, variance.rotation_rad2};
+    }
+    fusion_->setFrame(result.T_W_C, frame_index_, uncertainty);
     maintenance_->setView(T_C_W, frame_index_);
     update_[parity]->run();
     map_->flip();
     result.map_evicted = maintenance_->stats().evicted_when_full;
+    result.coverage = reference_fill_->coverage().share();
   }
   const map::MapState state = map_->readState(*arena_);
   result.surfels = state.surfel_count;

@@ -17,9 +17,13 @@ class TrackerDenseTerms : public estimator::DenseTerms {
  public:
   TrackerDenseTerms(DenseTracker& tracker, const DenseTermsOptions& options) : tracker_(tracker), options_(options) {}
 
-  /// The pose the reference view (the map prediction) was rendered at; set before each frame.
-  void setReference(const SE3d& T_W_ref) { T_W_ref_ = T_W_ref; }
-  /// Inlier statistics of the last level-0 evaluation.
+  /// The pose the reference view (the map prediction) was rendered at; set before each frame. Clears the
+  /// statistics: a frame whose solve ends before level 0 reports none.
+  void setReference(const SE3d& T_W_ref) {
+    T_W_ref_ = T_W_ref;
+    statistics_ = TrackingResult{};
+  }
+  /// Inlier statistics of this frame's last level-0 evaluation (zero if there was none).
   const TrackingResult& statistics() const { return statistics_; }
 
   int levels() const override { return tracker_.options().levels; }

@@ -3,10 +3,14 @@
 // drifts or loses frames can be read back frame by frame (which frames were lost, whether the view
 // still landed on the map, where the time went). Columns, after a '#'-prefixed header:
 //   t_ns                  the frame's camera time [ns]
-//   lost                  1: not tracked by vision (rgbd: the pose is the guess; inertial modes: the
-//                         IMU carried the state); the frame was not fused
+//   tracking              0 tracked, 1 IMU-carried, 2 lost (slam/tracking_state.hpp)
+//   lost                  1: tracking = 2: the pose is a guess and the frame was not fused
+//   pose_sigma_m          IMU-carried and lost inertial frames: the pose's σ at the far end of the depth
+//                         range, the quantity ImuCarryOptions bounds [m]; 0 otherwise
 //   imu                   1: the estimator used this frame's IMU samples, 0: refused or rgbd mode
 //   icp_inliers, icp_candidates, rgb_inliers   level-0 counts of the last iteration (FrameResult)
+//   coverage              share of the frame's valid pixels the map's prediction at its pose covers (the
+//                         fill-in gives the rest to the photometric term); −1: not fused
 //   iterations            Gauss-Newton iterations over all levels
 //   surfels               surfels in the map after the frame
 //   evicted               inactive surfels the map-full policy evicted in the frame
@@ -36,9 +40,11 @@ class FrameLog {
  private:
   struct Row {
     int64_t t_ns = 0;
-    bool lost = false;
+    slam::TrackingState tracking = slam::TrackingState::kTracked;
+    double pose_sigma_m = 0.0;
     bool imu = false;
     double icp_inliers = 0.0, icp_candidates = 0.0, rgb_inliers = 0.0;
+    double coverage = 0.0;
     int iterations = 0;
     uint32_t surfels = 0;
     uint32_t evicted = 0;

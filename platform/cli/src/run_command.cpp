@@ -1,5 +1,7 @@
 #include "run_command.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -38,6 +40,36 @@ std::string datasetSpec(const RunOptions& options) {
 
 double mean(double sum, int count) { return count > 0 ? sum / count : 0.0; }
 
+/// Frames per tracking state and each state's longest run of consecutive frames.
+class TrackingStateCounts {
+ public:
+  void add(slam::TrackingState state) {
+    const auto s = static_cast<std::size_t>(state);
+    ++frames_[s];
+    run_ = state == last_ ? run_ + 1 : 1;
+    last_ = state;
+    longest_run_[s] = std::max(longest_run_[s], run_);
+  }
+  int frames(slam::TrackingState state) const { return frames_[static_cast<std::size_t>(state)]; }
+
+  /// {"tracked": {"frames": N, "longest_run": M}, "imu_carried": …, "lost": …}
+  nlohmann::json json() const {
+    nlohmann::json states;
+    for (const slam::TrackingState state :
+         {slam::TrackingState::kTracked, slam::TrackingState::kImuCarried, slam::TrackingState::kLost}) {
+      const auto s = static_cast<std::size_t>(state);
+      states[slam::trackingStateName(state)] = {{"frames", frames_[s]}, {"longest_run", longest_run_[s]}};
+    }
+    return states;
+  }
+
+ private:
+  std::array<int, 3> frames_{};
+  std::array<int, 3> longest_run_{};
+  slam::TrackingState last_ = slam::TrackingState::kTracked;
+  int run_ = 0;
+};
+
 }  // namespace
 
 int runPipeline(const RunOptions& options) {
@@ -66,7 +98,7 @@ int runPipeline(const RunOptions& options) {
   FrameLog frame_log(total);
   int imu_issues = 0;
   RgbdFrame frame;
-  int lost = 0;
+  TrackingStateCounts states_seen;
   double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
   uint32_t surfels = 0, map_overflow = 0;
   uint64_t map_evicted = 0;
@@ -81,7 +113,7 @@ int runPipeline(const RunOptions& options) {
       std::fprintf(stderr, "vifusion run: frame %lld: IMU not used: %s\n", static_cast<long long>(frame.index),
                    result.imu_issue->message().c_str());
     }
-    lost += result.lost ? 1 : 0;
+    states_seen.add(result.tracking);
     preprocess_ms += result.preprocess_ms;
     tracking_ms += result.tracking_ms;
     mapping_ms += result.mapping_ms;
@@ -112,7 +144,8 @@ int runPipeline(const RunOptions& options) {
       {"mode", options.mode},
       {"device", context->features().device_name},
       {"frames", frames},
-      {"lost_frames", lost},
+      {"lost_frames", states_seen.frames(slam::TrackingState::kLost)},
+      {"tracking_states", states_seen.json()},
       {"frames_with_imu_issues", imu_issues},
       {"ms_per_frame",
        {{"preprocess", mean(preprocess_ms, frames)}, {"tracking", mean(tracking_ms, frames)},

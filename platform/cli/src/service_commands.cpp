@@ -44,6 +44,7 @@ const char* trackingName(std::uint8_t state) {
     case dds::msg::TrackingState::Ok: return "tracking";
     case dds::msg::TrackingState::Lost: return "LOST";
     case dds::msg::TrackingState::Initialising: return "initialising";
+    case dds::msg::TrackingState::ImuCarried: return "IMU-carried";
   }
   return "?";
 }
@@ -79,11 +80,12 @@ int runStatus(const StatusCommandOptions& options) {
       status_reader.take([&](const dds::msg::Status& s) {
         char line[320];
         std::snprintf(line, sizeof(line),
-                      "vifusiond: %s, %.1f frames/s, latency %.0f ms, %llu frames (%llu lost, %llu without usable "
-                      "IMU), %u surfels, camera ring %u/%u (%llu overruns), heartbeat %llu\n",
+                      "vifusiond: %s, %.1f frames/s, latency %.0f ms, %llu frames (%llu lost, %llu IMU-carried, "
+                      "%llu without usable IMU), %u surfels, camera ring %u/%u (%llu overruns), heartbeat %llu\n",
                       trackingName(s.tracking_state), static_cast<double>(s.frame_rate_hz),
                       static_cast<double>(s.latency_ms), static_cast<unsigned long long>(s.frames_processed),
                       static_cast<unsigned long long>(s.lost_frames),
+                      static_cast<unsigned long long>(s.imu_carried_frames),
                       static_cast<unsigned long long>(s.imu_issue_frames), s.surfel_count, s.camera_ring.fill,
                       s.camera_ring.capacity, static_cast<unsigned long long>(s.camera_ring.overruns),
                       static_cast<unsigned long long>(s.heartbeat));

@@ -158,8 +158,10 @@ int serve(const config::DaemonConfig& config) {
                                        static_cast<unsigned long long>(state.lost_frames.load()),
                                        static_cast<unsigned long long>(state.frames.overruns()));
       if (inertial && length > 0 && static_cast<std::size_t>(length) < sizeof(text)) {
-        std::snprintf(text + length, sizeof(text) - static_cast<std::size_t>(length), ", %s: %llu frames without IMU",
-                      config.mode.c_str(), static_cast<unsigned long long>(state.imu_issue_frames.load()));
+        std::snprintf(text + length, sizeof(text) - static_cast<std::size_t>(length),
+                      ", %s: %llu IMU-carried, %llu frames without IMU", config.mode.c_str(),
+                      static_cast<unsigned long long>(state.imu_carried_frames.load()),
+                      static_cast<unsigned long long>(state.imu_issue_frames.load()));
       }
       notifier.status(text);
       next_status_ns = now_ns + kNsPerSecond;

@@ -66,9 +66,13 @@ void Publisher::publishPose(const PoseResult& result) {
                     (delta.axis() * delta.angle() / dt_s);
   }
   if (!result.inertial) {
-    // Placeholder covariance (see publisher.hpp): (1 cm)², (0.01 rad)².
-    Matrix6d pose_covariance = Matrix6d::Zero();
-    pose_covariance.diagonal() << 1e-4, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4;
+    // Placeholder covariance (see publisher.hpp): (1 cm)², (0.01 rad)²; a lost frame's pose is a guess.
+    constexpr double kPlaceholderVariance = 1e-4;  // [m², rad²]
+    constexpr double kNoInformationVariance = 1e6;  // [m², rad²]
+    const Matrix6d pose_covariance = Vector6d::Constant(result.tracking == slam::TrackingState::kLost
+                                                            ? kNoInformationVariance
+                                                            : kPlaceholderVariance)
+                                         .asDiagonal();
     odometry_.write(dds::makeOdometry(result.t_ns, world, camera, result.T_W_C, v_W_mps, omega_C_radps,
                                       pose_covariance, Matrix6d::Zero()));
   } else if (velocity_estimated_) {
@@ -111,14 +115,20 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.camera_ring = counters(state_.frames.size(), state_.frames.capacity(), state_.frames.overruns());
   status.imu_ring = counters(0, 0, 0);  // no IMU ring: recorded sources hand over their whole stream (imu_feed.hpp)
   status.output_ring = counters(state_.results.size(), state_.results.capacity(), state_.results.overruns());
-  const auto tracking = !have_last_ ? dds::msg::TrackingState::Initialising
-                        : last_.lost ? dds::msg::TrackingState::Lost
-                                     : dds::msg::TrackingState::Ok;
+  auto tracking = dds::msg::TrackingState::Initialising;
+  if (have_last_) {
+    switch (last_.tracking) {
+      case slam::TrackingState::kTracked: tracking = dds::msg::TrackingState::Ok; break;
+      case slam::TrackingState::kImuCarried: tracking = dds::msg::TrackingState::ImuCarried; break;
+      case slam::TrackingState::kLost: tracking = dds::msg::TrackingState::Lost; break;
+    }
+  }
   status.tracking_state = static_cast<std::uint8_t>(tracking);
   status.surfel_count = last_.surfels;
   status.frames_processed = frames;
   status.lost_frames = state_.lost_frames.load();
   status.imu_issue_frames = state_.imu_issue_frames.load();
+  status.imu_carried_frames = state_.imu_carried_frames.load();
   status_.write(status);
 }
 

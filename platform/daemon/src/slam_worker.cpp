@@ -31,14 +31,15 @@ void SlamWorker::run() {
       const slam::FrameResult result = pipeline_.process(slot.frame, imu);
       trajectory_.push_back({result.t_ns, result.T_W_C});
       const std::uint64_t processed = state_.frames_processed.load() + 1;
-      if (result.lost) ++state_.lost_frames;
+      if (result.lost()) ++state_.lost_frames;
+      if (result.tracking == slam::TrackingState::kImuCarried) ++state_.imu_carried_frames;
       if (result.imu_issue) reportImuIssue(slot.frame.index, *result.imu_issue);
       PoseResult output;
       output.t_ns = result.t_ns;
       output.read_ns = slot.read_ns;
       output.done_ns = monotonicNowNs();
       output.T_W_C = result.T_W_C;
-      output.lost = result.lost;
+      output.tracking = result.tracking;
       output.inertial = result.inertial;
       output.imu_issue = result.imu_issue.has_value();
       output.surfels = result.surfels;

@@ -249,6 +249,7 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "frames_processed", message.frames_processed);
   field(json, "lost_frames", message.lost_frames);
   field(json, "imu_issue_frames", message.imu_issue_frames);
+  field(json, "imu_carried_frames", message.imu_carried_frames);
   json.endObject();
 }
 

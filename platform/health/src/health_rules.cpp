@@ -36,12 +36,15 @@ void HealthRules::onStatus(const dds::msg::Status& status, std::int64_t now_ns) 
   overruns_ = overruns;
   if (have_status_ && status.imu_issue_frames > imu_issues_) imu_issue_increase_ns_ = now_ns;
   imu_issues_ = status.imu_issue_frames;
-  const bool lost = status.tracking_state == static_cast<std::uint8_t>(dds::msg::TrackingState::Lost);
-  if (!lost) {
-    lost_since_ns_ = -1;
-  } else if (lost_since_ns_ < 0) {
-    lost_since_ns_ = now_ns;
-  }
+  const auto since = [&](dds::msg::TrackingState state, std::int64_t& since_ns) {
+    if (status.tracking_state != static_cast<std::uint8_t>(state)) {
+      since_ns = -1;
+    } else if (since_ns < 0) {
+      since_ns = now_ns;
+    }
+  };
+  since(dds::msg::TrackingState::Lost, lost_since_ns_);
+  since(dds::msg::TrackingState::ImuCarried, carried_since_ns_);
   last_ = status;
   received_ns_ = now_ns;
   have_status_ = true;
@@ -98,6 +101,11 @@ void HealthRules::judge(std::int64_t now_ns, std::array<RuleResult, kRuleCount>&
     // Single lost frames are normal (fast motion, blur); only a long loss is an error.
     set(tracking, lost_s > thresholds_.lost_error_s ? Level::Error : Level::Ok,
         lost_s > thresholds_.lost_error_s ? "tracking lost for %.1f s" : "recovering: lost for %.1f s", lost_s);
+  } else if (carried_since_ns_ >= 0) {
+    // The pose is dead-reckoned: still published, with a covariance that grows; the map keeps growing.
+    const double carried_s = nsToSeconds(now_ns - carried_since_ns_);
+    value(tracking, "imu_carried_for_s", "%.2f", carried_s);
+    set(tracking, Level::Warn, "IMU-carried for %.1f s: no visual constraint, pose covariance growing", carried_s);
   } else {
     set(tracking, Level::Ok, "tracking");
   }

@@ -43,6 +43,7 @@ class HealthRules {
   dds::msg::Status last_{};
   std::int64_t received_ns_ = 0;
   std::int64_t lost_since_ns_ = -1;        ///< host time tracking was first seen lost; −1: not lost
+  std::int64_t carried_since_ns_ = -1;     ///< host time the IMU was first seen carrying the pose; −1: not
   std::uint64_t overruns_ = 0;             ///< camera + output ring overruns in the last status
   std::int64_t overrun_increase_ns_ = -1;  ///< host time they last increased; −1: never
   std::uint64_t imu_issues_ = 0;           ///< frames with refused IMU samples in the last status

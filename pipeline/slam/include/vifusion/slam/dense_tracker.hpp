@@ -18,6 +18,7 @@
 #include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/gpu/memory_arena.hpp"
 #include "vifusion/preprocess/preprocess_stage.hpp"
+#include "vifusion/slam/rotation_prealignment.hpp"
 #include "vifusion/tracking/icp_term.hpp"
 #include "vifusion/tracking/photometric_term.hpp"
 
@@ -30,6 +31,14 @@ struct TrackerOptions {
   /// Stop a level early when the step is below this (translation [m] and rotation [rad]).
   double converged_step = 1e-5;
   bool use_photometric = true;
+  /// ElasticFusion's rotation-only pre-alignment (rotation_prealignment.hpp): before the six-parameter
+  /// solve, the guess's rotation is refined against the previous frame's coarse intensity images by the
+  /// homography of a pure rotation. It needs neither depth nor the map, so it follows fast pans into views
+  /// the map does not cover yet, where the constant-velocity guess is degrees off after a lost frame.
+  bool rotation_prealignment = true;
+  /// Gauss-Newton iterations of the pre-alignment per level (ElasticFusion: 10 at its one level); a level
+  /// stops earlier at converged_step.
+  int rotation_iterations = 10;
   /// Filter, pyramid and normal settings; camera, levels and depth scale are set by the tracker.
   preprocess::PreprocessOptions preprocess;
   tracking::IcpOptions icp;
@@ -76,6 +85,8 @@ struct TrackingResult {
   bool lost = false;         ///< too few inliers or a degenerate system: T_ref_cur is the guess
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
   double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction (the inliers' denominator)
+  /// level-0 pixels with a valid vertex (the photometric term's candidates; the image size when it is off)
+  double valid_pixels = 0.0;
   double rgb_inliers = 0.0;  ///< level-0 photometric inliers of the last iteration
   int iterations = 0;        ///< Gauss-Newton iterations run over all levels
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();  ///< last level-0 system (information)
@@ -96,6 +107,10 @@ class DenseTracker {
   void preprocess(const RgbdFrame& frame);
   /// Aligns the preprocessed frame to the reference view starting from `T_ref_cur_guess`.
   TrackingResult track(const SE3d& T_ref_cur_guess);
+  /// A guess of the motion from the previous frame to this one with its rotation refined by the
+  /// rotation-only pre-alignment (unchanged when that is off or there is no previous frame).
+  SE3d prealignRotation(const SE3d& T_prev_cur_guess) const;
+
 
   /// The dense terms' normal equations at `level` for the pose T_ref_cur, over a LEFT perturbation in
   /// the reference camera frame: T_ref_cur ← exp(δ)·T_ref_cur, δ = [ρ; φ] (se3.hpp), H = JᵀWJ, b = JᵀWr,
@@ -129,6 +144,7 @@ class DenseTracker {
   std::vector<preprocess::LevelBuffers> reference_;  ///< copies of the reference view's maps
   std::unique_ptr<tracking::IcpTerm> icp_;
   std::unique_ptr<tracking::PhotometricTerm> photometric_;
+  std::unique_ptr<RotationPrealignment> rotation_;
   const gpu::MemoryArena* arena_ = nullptr;
   std::unique_ptr<gpu::CommandSequence> preprocess_sequence_;
   std::unique_ptr<gpu::ComputeKernel> gradient_kernel_;

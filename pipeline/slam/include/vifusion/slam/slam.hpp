@@ -32,6 +32,8 @@
 #include "vifusion/map/surfel_fusion.hpp"
 #include "vifusion/slam/dense_terms_options.hpp"
 #include "vifusion/slam/dense_tracker.hpp"
+#include "vifusion/slam/reference_fill.hpp"
+#include "vifusion/slam/tracking_state.hpp"
 
 namespace vifusion::slam {
 
@@ -56,6 +58,8 @@ struct SlamOptions {
   map::FusionOptions fusion;
   map::MaintenanceOptions maintenance;
   map::PredictionOptions prediction;  ///< `levels` is taken from the tracker
+  /// Inertial modes: when an IMU-carried frame is fused (tracking_state.hpp).
+  ImuCarryOptions carry;
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -64,9 +68,16 @@ struct SlamOptions {
 struct FrameResult {
   int64_t t_ns = 0;
   SE3d T_W_C;                   ///< camera pose in the map world (first camera frame)
-  bool lost = false;            ///< tracking failed: the pose is the constant-velocity prediction, not fused
+  TrackingState tracking = TrackingState::kTracked;  ///< tracking_state.hpp; the first frame is kTracked
+  /// Inertial frames the dense terms did not track: the pose's σ_p at the far end of the depth range, the
+  /// quantity ImuCarryOptions bounds [m]; 0 otherwise
+  double pose_sigma_m = 0.0;
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
   double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction
+  /// The share of this frame's valid level-0 pixels that the map's prediction at its pose covers, before the
+  /// fill-in (reference_fill.hpp) gives the rest to the photometric term; −1 for a frame that was not fused
+  /// (not counted)
+  double coverage = -1.0;
   double rgb_inliers = 0.0;     ///< level-0 photometric inliers of the last iteration
   int iterations = 0;           ///< Gauss-Newton iterations over all levels
   uint32_t surfels = 0;         ///< surfels in the map after this frame
@@ -82,8 +93,11 @@ struct FrameResult {
   Vector18d state_variance = Vector18d::Zero();  ///< its marginal variances in δx (0: held dims)
   double imu_chi2 = 0.0;                         ///< estimator::FrameSolve::imu_chi2
   double vision_chi2 = 0.0;                      ///< estimator::FrameSolve::vision_chi2
-  bool vision_rejected = false;                  ///< estimator::FrameSolve::vision_rejected (then also `lost`)
+  bool vision_rejected = false;                  ///< estimator::FrameSolve::vision_rejected (then not kTracked)
   std::optional<imu::ImuSampleIssue> imu_issue;  ///< why the IMU could not be used this frame
+
+  /// Not fused, and the pose is no more than a guess.
+  bool lost() const { return tracking == TrackingState::kLost; }
 };
 
 class Slam {
@@ -109,15 +123,22 @@ class Slam {
 
  private:
   void recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const;
-  /// Frame-to-model tracking by the dense terms alone; updates the pose and the constant-velocity guess.
+  /// Frame-to-model tracking by the dense terms alone from the constant-velocity guess, its rotation
+  /// pre-aligned; after a lost frame also from the last tracked pose (recovery). Sets result.T_W_C and
+  /// updates the constant-velocity guess.
   void trackRgbd(FrameResult& result);
   /// The two-state estimator's frame; falls back to trackRgbd() when the IMU samples are refused.
   void trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result);
-  /// Starts the estimator at the current pose; `previous` gives velocity, biases and gravity if it ran before.
+  /// kImuCarried while the estimator's pose uncertainty is within ImuCarryOptions' bound, else kLost.
+  TrackingState carriedOrLost(FrameResult& result) const;
+  /// Starts the estimator at result.T_W_C; `previous` gives velocity, biases and gravity if it ran before.
   void startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
                       FrameResult& result);
 
   SlamMode mode_;
+  ImuCarryOptions carry_;
+  double far_depth_m_ = 0.0;        ///< the depth gate's far end: where the IMU-carry bound is taken [m]
+  double far_depth_sigma_m_ = 0.0;  ///< the sensor's axial noise there (the tracker's model) [m]
   std::int64_t time_shift_cam_imu_ns_ = 0;
   SE3d T_S_C_;
   gpu::CapacityPlan plan_;
@@ -127,14 +148,19 @@ class Slam {
   std::unique_ptr<map::MapMaintenance> maintenance_;
   std::unique_ptr<map::ModelPrediction> prediction_;
   std::unique_ptr<map::MapExport> exporter_;
+  std::unique_ptr<ReferenceFill> reference_fill_;
   std::unique_ptr<TrackerDenseTerms> dense_terms_;           ///< inertial modes
   std::unique_ptr<estimator::TwoStateEstimator> estimator_;  ///< inertial modes
   std::unique_ptr<gpu::MemoryArena> arena_;
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> update_;        ///< per parity: fuse, clean, predict
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> predict_only_;  ///< per parity: predict (lost frames)
   uint32_t frame_index_ = 0;
-  SE3d T_W_previous_;        ///< pose of the previous frame: the reference view's camera
-  SE3d T_previous_current_;  ///< last frame-to-frame motion: the constant-velocity guess
+  /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last
+  /// tracked one (the map's view the camera is most likely to come back to).
+  SE3d T_W_reference_;
+  SE3d T_previous_current_;  ///< last motion between two tracked frames: the constant-velocity guess
+  int rgbd_lost_frames_ = 0;  ///< RGB-D tracking: lost frames since the last tracked one
+  SE3d T_reference_guess_;    ///< during such a run: the pose guessed by continuing the motion, in the reference
 };
 
 }  // namespace vifusion::slam

@@ -10,10 +10,13 @@
 //  - rgbd mode, and inertial-mode frames without an estimator state (before it starts): the pose
 //    covariance is a PLACEHOLDER, a fixed diagonal of (1 cm)² for position and (0.01 rad)² for
 //    rotation; twist.linear is the finite difference of consecutive poses; twist covariance zero
-//    (unknown).
+//    (unknown). A lost frame (slam/tracking_state.hpp; its pose is a guess) gets a variance of 10⁶ m²
+//    and rad² instead: no information, so a consumer that fuses odometry ignores it.
 //  - rgbdi: pose covariance from the estimator's marginal variances (dds::odometryPoseCovariance:
 //    diagonal only); twist.linear is the estimator's velocity moved to the camera's origin, with its
 //    covariance rotated into C (dds::makeInertialOdometry); angular twist covariance zero (unknown).
+//    While the IMU carries the pose the estimator's variances grow with the dead reckoning, and they are
+//    what is published, lost or not.
 //  - gyro: pose covariance from the estimator as in rgbdi; velocity is held, not estimated, so the
 //    twist is as in rgbd mode.
 // rt/vifusion/imu_state (dds::makeImuStateFromVariances) goes out for every frame with an estimator

@@ -13,6 +13,7 @@
 #include "vifusion/core/spsc_ring.hpp"
 #include "vifusion/core/state.hpp"
 #include "vifusion/map/surfel.hpp"
+#include "vifusion/slam/tracking_state.hpp"
 
 namespace vifusion::daemon {
 
@@ -29,7 +30,7 @@ struct PoseResult {
   std::int64_t read_ns = 0;     ///< host time the reader handed the frame over [ns]
   std::int64_t done_ns = 0;     ///< host time the SLAM thread finished it [ns]
   SE3d T_W_C;                   ///< camera pose in the map world
-  bool lost = false;            ///< tracking failed for this frame
+  slam::TrackingState tracking = slam::TrackingState::kTracked;  ///< slam::FrameResult::tracking
   /// Inertial modes: `state` and `state_variance` hold the estimator's state at this frame
   /// (slam::FrameResult::inertial); false in rgbd mode and while the estimator waits to start.
   bool inertial = false;
@@ -85,6 +86,7 @@ struct SharedState {
   std::atomic<std::uint64_t> frames_processed{0};
   std::atomic<std::uint64_t> lost_frames{0};
   std::atomic<std::uint64_t> imu_issue_frames{0};  ///< inertial modes: frames whose IMU samples were refused
+  std::atomic<std::uint64_t> imu_carried_frames{0};  ///< inertial modes: frames the IMU carried
   std::atomic<int> exit_code{0};
 
   void fail(int code) {

@@ -46,6 +46,7 @@ enum class TrackingState : std::uint8_t {
   Ok = vifusion_msgs_msg_Status_Constants_TRACKING_OK,
   Lost = vifusion_msgs_msg_Status_Constants_TRACKING_LOST,
   Initialising = vifusion_msgs_msg_Status_Constants_TRACKING_INITIALISING,
+  ImuCarried = vifusion_msgs_msg_Status_Constants_TRACKING_IMU_CARRIED,
 };
 
 /// The idlc descriptor of a top-level message type: its DDS type name, size and serialiser ops.

@@ -73,7 +73,7 @@ def check_status_command():
         result = subprocess.run([f"{BIN}/vifusion", "status", "--timeout", "3", *ECHO_ARGS],
                                 capture_output=True, text=True, timeout=30)
         summary = re.search(r"^vifusiond: \w+, [\d.]+ frames/s, latency \d+ ms, (\d+) frames \((\d+) lost, "
-                            r"(\d+) without usable IMU\), \d+ surfels, camera ring \d+/\d+ \(\d+ overruns\)",
+                            r"(\d+) IMU-carried, (\d+) without usable IMU\), \d+ surfels, camera ring \d+/\d+ \(\d+ overruns\)",
                             result.stdout, re.MULTILINE)
         if result.returncode == 0 and summary and "health: OK" in result.stdout:
             print(f"vifusion status:\n{result.stdout}", end="", flush=True)

@@ -3,20 +3,20 @@
 // pose) with this frame's own measurements for the photometric term, so the next frame is aligned to the
 // map where the map has stable surfels and frame to frame elsewhere (after ElasticFusion's fill-in,
 // algorithms.md §1.2 4a). Where the camera turns into a view faster than new surfels become stable (ten or
-// more observations), the prediction covers little of it (2–15 % during sim:fast_pan's pan at 640 × 480);
-// this frame, at the pose the reference is rendered at, covers all of it. Both are in the same camera
-// frame, so a hole is filled by a copy.
+// more observations), the prediction covers little of it; this frame, at the pose the reference is
+// rendered at, covers all of it. Both are in the same camera frame, so a hole is filled by a copy.
 //
 // Only the photometric term sees the fill: a filled normal carries w = 0, which the ICP reads as "no model"
-// (icp_reduce.comp), so the ICP stays frame to model. Point-to-plane between two raw depth images locks onto
-// the disparity quantisation bands both share: filling the ICP too took the first 5 s of living_room_0 from
-// 2.1 to 4.4 mm in rgbd, filling the photometric term alone left it at 2.1 mm.
+// (icp_reduce.comp), so the ICP stays frame to model: point-to-plane between two raw depth images locks onto
+// the disparity quantisation bands both share (tests/bench/README.md, "Reference fill-in").
 //
 //   pass 0 (level 0): counts[0] += pixels where this frame has a vertex, counts[1] += those of them the
 //                     prediction covers (one atomic add per workgroup after a shared-memory sum): the
 //                     coverage the host reports;
-//   pass 1 (every level): a pixel whose reference vertex is invalid (z ≤ 0) and current vertex valid takes
-//                     the current vertex and the current normal with w = 0, at level 0 also the intensity
+//   pass 1 (every level): only while counts[1] < max_coverage · counts[0] (the map cannot hold the view on
+//                     its own: ReferenceFillOptions), a pixel whose reference vertex is invalid (z ≤ 0) and
+//                     current vertex valid takes the current vertex and the current normal with w = 0, at
+//                     level 0 also the intensity
 //                     (the coarser reference intensities are built from level 0 afterwards). Pixels the
 //                     prediction covers are left alone.
 // The host clears counts before pass 0 and reads them after the submission.
@@ -41,6 +41,7 @@ layout(push_constant) uniform Params {
   int height;
   uint fill_intensity;  // 1 at level 0
   uint pass;            // 0: count (level 0), 1: fill
+  float max_coverage;   // pass 1 fills only below this share of covered pixels, (0, 1]
 } params;
 
 layout(set = 0, binding = 0, std430) restrict readonly buffer CurrentVertices { vec4 cur_vertices[]; };
@@ -86,7 +87,7 @@ void main() {
   const int i = pixel.y * params.width + pixel.x;
   if (params.pass == 0u) {
     count(inside, i);  // every invocation reaches the barriers
-  } else if (inside) {
+  } else if (inside && float(counts[1]) < params.max_coverage * float(counts[0])) {
     fill(i);
   }
 }

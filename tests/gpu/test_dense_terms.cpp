@@ -39,7 +39,7 @@ struct FrameMaps {
 class TwoFrameFixture {
  public:
   TwoFrameFixture(gpu::GpuContext& context, const test::SevenScenesFrame& reference,
-                  const test::SevenScenesFrame& current)
+                  const test::SevenScenesFrame& current, const slam::ReferenceFillOptions& fill_options = {})
       : context_(context) {
     preprocess::PreprocessOptions options;
     options.camera = current.camera;
@@ -61,7 +61,7 @@ class TwoFrameFixture {
     for (int l = 0; l < stage_->levels(); ++l) {
       fill_levels.push_back({stage_->camera(l), asLevel(current_[l]), asLevel(reference_[l])});
     }
-    fill_ = std::make_unique<slam::ReferenceFill>(context, plan_, std::move(fill_levels));
+    fill_ = std::make_unique<slam::ReferenceFill>(context, plan_, std::move(fill_levels), fill_options);
     arena_ = gpu::MemoryArena::create(context, plan_);
     stage_->build(*arena_);
     icp_->build(*arena_, icp_inputs);
@@ -352,6 +352,35 @@ TEST_F(GpuTest, RotationPreAlignmentRecoversAFiveDegreePerFrameRotation) {
   }
 }
 
+/// The reference maps of every level before the fill, as the fixture's host images hold them.
+struct ReferenceMapsCopy {
+  std::vector<std::vector<VertexPixel>> vertices;
+  std::vector<std::vector<NormalPixel>> normals;
+  std::vector<std::vector<float>> intensity;
+};
+
+/// A prediction with holes: the reference maps of every level with the left `share` of their columns
+/// removed; returns them as they are then.
+ReferenceMapsCopy removeLeftOfReference(TwoFrameFixture& maps, double share) {
+  ReferenceMapsCopy before;
+  for (int l = 0; l < maps.levels(); ++l) {
+    auto vertices = maps.hostImage<VertexPixel>(maps.reference(l).vertices, l);
+    auto normals = maps.hostImage<NormalPixel>(maps.reference(l).normals, l);
+    auto intensity = maps.hostImage<float>(maps.reference(l).intensity, l);
+    for (int v = 0; v < vertices.height; ++v) {
+      for (int u = 0; u < static_cast<int>(share * vertices.width); ++u) {
+        vertices(u, v).setZero();
+        normals(u, v).setZero();
+        intensity(u, v) = 0.0f;
+      }
+    }
+    before.vertices.emplace_back(vertices.data, vertices.data + vertices.width * vertices.height);
+    before.normals.emplace_back(normals.data, normals.data + normals.width * normals.height);
+    before.intensity.emplace_back(intensity.data, intensity.data + intensity.width * intensity.height);
+  }
+  return before;
+}
+
 // Fill-in of the reference view: the prediction's holes get the frame's own vertices and level-0 intensity
 // and its normals with w = 0 (the ICP's "no model"), and the prediction keeps what it has; pass 0 counts how
 // much of the frame the prediction covered. The GPU against referenceCoverageCpu and referenceFillCpu at
@@ -361,25 +390,10 @@ TEST_F(GpuTest, ReferenceFillGivesThePredictionsHolesTheFramesMapsForThePhotomet
   const test::SevenScenesFrame current = test::loadSevenScenesFrame(155);
   constexpr double kRemovedShare = 0.6;
   TwoFrameFixture maps(context(), reference, current);
-  // A prediction with holes: the reference maps with their left part removed.
-  std::vector<std::vector<VertexPixel>> vertices_before;
-  std::vector<std::vector<NormalPixel>> normals_before;
-  std::vector<std::vector<float>> intensity_before;
-  for (int l = 0; l < maps.levels(); ++l) {
-    auto vertices = maps.hostImage<VertexPixel>(maps.reference(l).vertices, l);
-    auto normals = maps.hostImage<NormalPixel>(maps.reference(l).normals, l);
-    auto intensity = maps.hostImage<float>(maps.reference(l).intensity, l);
-    for (int v = 0; v < vertices.height; ++v) {
-      for (int u = 0; u < static_cast<int>(kRemovedShare * vertices.width); ++u) {
-        vertices(u, v).setZero();
-        normals(u, v).setZero();
-        intensity(u, v) = 0.0f;
-      }
-    }
-    vertices_before.emplace_back(vertices.data, vertices.data + vertices.width * vertices.height);
-    normals_before.emplace_back(normals.data, normals.data + normals.width * normals.height);
-    intensity_before.emplace_back(intensity.data, intensity.data + intensity.width * intensity.height);
-  }
+  const ReferenceMapsCopy before = removeLeftOfReference(maps, kRemovedShare);
+  const auto& vertices_before = before.vertices;
+  const auto& normals_before = before.normals;
+  const auto& intensity_before = before.intensity;
   const slam::ReferenceCoverage expected_coverage =
       slam::referenceCoverageCpu(maps.hostImage<const VertexPixel>(maps.current(0).vertices, 0),
                                  {vertices_before[0].data(), maps.camera(0).width, maps.camera(0).height});
@@ -388,6 +402,7 @@ TEST_F(GpuTest, ReferenceFillGivesThePredictionsHolesTheFramesMapsForThePhotomet
   EXPECT_EQ(fill.coverage().covered_pixels, expected_coverage.covered_pixels);
   EXPECT_GT(fill.coverage().share(), 0.2);
   EXPECT_LT(fill.coverage().share(), 0.5) << "60 % of the prediction was removed";
+  ASSERT_TRUE(fill.coverage().fills(slam::ReferenceFillOptions{}.max_coverage));
   for (int l = 0; l < maps.levels(); ++l) {
     SCOPED_TRACE("level " + std::to_string(l));
     const PinholeCamera& camera = maps.camera(l);
@@ -418,6 +433,35 @@ TEST_F(GpuTest, ReferenceFillGivesThePredictionsHolesTheFramesMapsForThePhotomet
     EXPECT_EQ(different, 0);
     EXPECT_GT(filled, camera.width * camera.height / 3) << "the frame fills most of the removed part";
     EXPECT_GT(kept, camera.width * camera.height / 4) << "the prediction keeps its own pixels";
+  }
+}
+
+// A view the map covers more of than ReferenceFillOptions::max_coverage is left as predicted: the pass
+// counts it and fills nothing, at any level.
+TEST_F(GpuTest, ReferenceFillLeavesAViewTheMapCoversAlone) {
+  const test::SevenScenesFrame reference = test::loadSevenScenesFrame(150);
+  const test::SevenScenesFrame current = test::loadSevenScenesFrame(155);
+  constexpr double kRemovedShare = 0.6;
+  slam::ReferenceFillOptions options;
+  options.max_coverage = 0.1;  // below the ~30 % that stays covered
+  TwoFrameFixture maps(context(), reference, current, options);
+  const ReferenceMapsCopy before = removeLeftOfReference(maps, kRemovedShare);
+  const slam::ReferenceFill& fill = maps.fill();
+  ASSERT_GT(fill.coverage().share(), options.max_coverage);
+  EXPECT_FALSE(fill.coverage().fills(options.max_coverage));
+  for (int l = 0; l < maps.levels(); ++l) {
+    SCOPED_TRACE("level " + std::to_string(l));
+    const auto gpu_vertices = maps.hostImage<const VertexPixel>(maps.reference(l).vertices, l);
+    const auto gpu_normals = maps.hostImage<const NormalPixel>(maps.reference(l).normals, l);
+    const auto gpu_intensity = maps.hostImage<const float>(maps.reference(l).intensity, l);
+    int changed = 0;
+    for (int i = 0; i < gpu_vertices.width * gpu_vertices.height; ++i) {
+      changed += gpu_vertices.data[i] != before.vertices[l][i] || gpu_normals.data[i] != before.normals[l][i] ||
+                         gpu_intensity.data[i] != before.intensity[l][i]
+                     ? 1
+                     : 0;
+    }
+    EXPECT_EQ(changed, 0);
   }
 }
 

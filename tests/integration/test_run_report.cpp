@@ -79,7 +79,11 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial, 
     if (i == 0) continue;  // the first frame starts the map: nothing to track against
     EXPECT_GT(table.at(i, "t_ns"), table.at(i - 1, "t_ns")) << "row " << i;
     if (state == 0.0) {
-      EXPECT_GT(table.at(i, "icp_inliers"), 0.2 * table.at(i, "icp_candidates")) << "row " << i;
+      // The health test (DenseTracker::healthy). In rgbd mode, where no stable surfel is in view yet, there
+      // may be no ICP candidates and the photometric term on the reference's fill-in registers the frame
+      // alone.
+      EXPECT_GE(table.at(i, "icp_inliers"), 0.2 * table.at(i, "icp_candidates")) << "row " << i;
+      EXPECT_GT(table.at(i, "icp_inliers") + table.at(i, "rgb_inliers"), 0.0) << "row " << i;
     }
   }
   EXPECT_EQ(lost, r.at("lost_frames").get<double>());
@@ -183,9 +187,9 @@ TEST(RunReport, RgbdInertialCrossesTheWhiteWall) {
 
 // Issue 15: the first 11 s of unmapped_turn at 320×240 in rgbdi (integration.run_rgbdi.unmapped_turn): a
 // 180° turn in 1.4 s into the half of the room the map has not seen. The stable map lags such a turn by
-// the ten observations a surfel needs; the photometric fill-in of the reference view and, where the dense
-// terms still fail, the IMU carrying the pose while the map grows at it keep the run from being lost.
-// Measured: 3.2 mm, 0 lost, 0 IMU-carried; before them (234f8fd) 108 mm with 107 frames lost for good.
+// the ten observations a surfel needs; where the dense terms fail, the IMU carries the pose while the map
+// grows at it, and the dense terms take over again. Measured: 5.7 mm, 0 lost, 18 frames IMU-carried in one
+// run; before (234f8fd) 108 mm with 107 frames lost for good.
 TEST(RunReport, RgbdInertialTurnsIntoTheUnmappedHalfOfTheRoom) {
   const nlohmann::json r = report(VIFUSION_UNMAPPED_TURN_RUN_DIR);
   EXPECT_EQ(r.at("frames").get<int>(), 331);

@@ -3,6 +3,7 @@
 #include <cstring>
 #include <utility>
 
+#include "vifusion/core/error.hpp"
 #include "vifusion/shaders/spirv.hpp"
 
 namespace vifusion::slam {
@@ -18,13 +19,26 @@ std::vector<ReferenceFillLevel> trackerLevels(const DenseTracker& tracker) {
 
 }  // namespace
 
-ReferenceFill::ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, std::vector<ReferenceFillLevel> levels)
-    : context_(context), levels_(std::move(levels)) {
+void ReferenceFillOptions::validate() const {
+  if (!(max_coverage > 0.0 && max_coverage <= 1.0)) {
+    throw Error("reference fill option 'max_coverage' must be in (0, 1]");
+  }
+}
+
+bool ReferenceCoverage::fills(double max_coverage) const {
+  return static_cast<float>(covered_pixels) < static_cast<float>(max_coverage) * static_cast<float>(valid_pixels);
+}
+
+ReferenceFill::ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, std::vector<ReferenceFillLevel> levels,
+                             const ReferenceFillOptions& options)
+    : context_(context), levels_(std::move(levels)), options_(options) {
+  options_.validate();
   counts_ = plan.addBuffer("slam.reference_fill.counts", 2 * sizeof(std::uint32_t), gpu::MemoryUse::Readback);
 }
 
-ReferenceFill::ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, const DenseTracker& tracker)
-    : ReferenceFill(context, plan, trackerLevels(tracker)) {}
+ReferenceFill::ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, const DenseTracker& tracker,
+                             const ReferenceFillOptions& options)
+    : ReferenceFill(context, plan, trackerLevels(tracker), options) {}
 
 ReferenceFill::~ReferenceFill() = default;
 
@@ -47,20 +61,29 @@ void ReferenceFill::build(const gpu::MemoryArena& arena) {
   }
 }
 
-void ReferenceFill::record(gpu::CommandRecorder& recorder) const {
+void ReferenceFill::dispatch(gpu::CommandRecorder& recorder, std::size_t level, std::uint32_t pass) const {
+  const PinholeCamera& camera = levels_[level].camera;
+  const ReferenceFillParams params{camera.width, camera.height, level == 0 ? 1u : 0u, pass,
+                                   static_cast<float>(options_.max_coverage)};
+  recorder.dispatch(
+      *kernel_, sets_[level],
+      kernel_->groupsFor(static_cast<std::uint32_t>(camera.width), static_cast<std::uint32_t>(camera.height)), params);
+}
+
+void ReferenceFill::recordCoverage(gpu::CommandRecorder& recorder) const {
   recorder.fillBuffer(arena_->buffer(counts_), 0u);
   recorder.computeBarrier();
-  const auto dispatch = [&](std::size_t l, std::uint32_t pass) {
-    const PinholeCamera& camera = levels_[l].camera;
-    const ReferenceFillParams params{camera.width, camera.height, l == 0 ? 1u : 0u, pass};
-    recorder.dispatch(
-        *kernel_, sets_[l],
-        kernel_->groupsFor(static_cast<std::uint32_t>(camera.width), static_cast<std::uint32_t>(camera.height)),
-        params);
-  };
-  dispatch(0, 0);
+  dispatch(recorder, 0, kCountPass);
+}
+
+void ReferenceFill::recordFill(gpu::CommandRecorder& recorder) const {
+  for (std::size_t l = 0; l < levels_.size(); ++l) dispatch(recorder, l, kFillPass);
+}
+
+void ReferenceFill::record(gpu::CommandRecorder& recorder) const {
+  recordCoverage(recorder);
   recorder.computeBarrier();
-  for (std::size_t l = 0; l < levels_.size(); ++l) dispatch(l, 1);
+  recordFill(recorder);
 }
 
 ReferenceCoverage ReferenceFill::coverage() const {

@@ -44,6 +44,7 @@ void SlamOptions::validate() const {
   maintenance.validate();
   prediction.validate();
   carry.validate();
+  fill.validate();
 }
 
 Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options)
@@ -68,7 +69,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   prediction.levels = options.tracker.levels;
   prediction_ = std::make_unique<map::ModelPrediction>(context, plan_, *map_, camera, prediction);
   exporter_ = std::make_unique<map::MapExport>(context, plan_, *map_);
-  reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_);
+  reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_, options.fill);
   if (mode_ != SlamMode::kRgbd) {
     estimator::EstimatorOptions estimator_options = options.estimator;
     estimator_options.mode =
@@ -119,8 +120,12 @@ void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse
   recordPredictionAsReference(recorder, *arena_, *prediction_, *tracker_);
   recorder.computeBarrier();
   if (fuse) {  // a lost frame's pose is a guess: its maps stay out of the reference too
-    reference_fill_->record(recorder);
+    reference_fill_->recordCoverage(recorder);
     recorder.computeBarrier();
+    if (mode_ == SlamMode::kRgbd) {  // the inertial modes' dense terms take the reference as fixed (reference_fill.hpp)
+      reference_fill_->recordFill(recorder);
+      recorder.computeBarrier();
+    }
   }
   tracker_->recordReferenceIntensity(recorder);
   recorder.hostReadBarrier();

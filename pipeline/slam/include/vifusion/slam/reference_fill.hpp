@@ -7,8 +7,17 @@
 // stable surfels yet. Recorded only into the sequence of frames that are fused: a lost frame's pose is a
 // guess, and its measurements are not put where it might be.
 //
-// Lifecycle: construct (declares the counts buffer in the plan) → build(arena) → record() into a command
-// sequence once → after each submission, coverage() reads what the prediction covered.
+// The filled pixels are a measurement relative to the previous frame's pose, but the dense terms treat the
+// reference as the map, fixed: they hold the pose to the previous estimate where the map would correct it.
+// So the fill is a fallback for a view the map cannot hold on its own: it applies only while the prediction
+// covers less than ReferenceFillOptions::max_coverage of the frame (the pass reads the count on the GPU).
+// Slam fills in rgbd mode only: in the inertial modes the previous state's information is already in the
+// marginalisation prior, so the filled pixels would count it twice, and the IMU carries the pose through
+// the holes instead (tracking_state.hpp).
+//
+// Lifecycle: construct (declares the counts buffer in the plan) → build(arena) → record() (or
+// recordCoverage() alone) into a command sequence once → after each submission, coverage() reads what the
+// prediction covered.
 
 #include <cstdint>
 #include <memory>
@@ -26,11 +35,24 @@
 
 namespace vifusion::slam {
 
+struct ReferenceFillOptions {
+  /// The fill applies while the prediction covers less than this share of the frame's valid level-0
+  /// pixels: below one half the frame-to-frame pixels would be the majority anyway, above it the map's
+  /// absolute constraint is what the frame rests on, and relative pixels beside it only add the previous
+  /// pose's error (measurements: tests/bench/README.md, "Reference fill-in"). In (0, 1]; 1 fills every
+  /// hole of every frame.
+  double max_coverage = 0.5;
+
+  /// Throws vifusion::Error naming the field out of range.
+  void validate() const;
+};
+
 /// Push constants of reference_fill.comp.
 struct ReferenceFillParams {
   std::int32_t width = 0, height = 0;  ///< level size [px]
   std::uint32_t fill_intensity = 0;    ///< 1 at level 0
   std::uint32_t pass = 0;              ///< 0: count (level 0), 1: fill
+  float max_coverage = 0.0f;           ///< ReferenceFillOptions::max_coverage
 };
 
 /// One pyramid level: the frame's maps fill the reference view's (vertices, normals with w = 0; intensity at
@@ -46,35 +68,51 @@ struct ReferenceCoverage {
   std::uint32_t valid_pixels = 0;    ///< pixels with a vertex in the frame
   std::uint32_t covered_pixels = 0;  ///< of those, the ones the prediction has a vertex at
   double share() const { return valid_pixels > 0 ? double(covered_pixels) / double(valid_pixels) : 0.0; }
+  /// Whether the fill applies: covered < max_coverage · valid (reference_fill.comp's test, in float).
+  bool fills(double max_coverage) const;
 };
 
 class ReferenceFill {
  public:
-  /// Declares the counts buffer.
-  ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, std::vector<ReferenceFillLevel> levels);
+  /// Declares the counts buffer; validates `options`.
+  ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, std::vector<ReferenceFillLevel> levels,
+                const ReferenceFillOptions& options);
   /// The tracker's preprocessed frame into its reference view, at every level.
-  ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, const DenseTracker& tracker);
+  ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, const DenseTracker& tracker,
+                const ReferenceFillOptions& options);
   ~ReferenceFill();
 
   /// Creates the kernel and one binding set per level.
   void build(const gpu::MemoryArena& arena);
-  /// Records the count and the fill of every level; call after the prediction was copied into the
-  /// reference view and before DenseTracker::recordReferenceIntensity, with a barrier before it (the
-  /// caller's).
+  /// Records the coverage count (pass 0); call after the prediction was copied into the reference view,
+  /// with a barrier before it (the caller's).
+  void recordCoverage(gpu::CommandRecorder& recorder) const;
+  /// Records the fill of every level (pass 1), which applies only where the count says so
+  /// (ReferenceCoverage::fills): after recordCoverage and a barrier, before
+  /// DenseTracker::recordReferenceIntensity.
+  void recordFill(gpu::CommandRecorder& recorder) const;
+  /// recordCoverage, a barrier, recordFill.
   void record(gpu::CommandRecorder& recorder) const;
   /// The last completed submission's counts.
   ReferenceCoverage coverage() const;
 
  private:
+  static constexpr std::uint32_t kCountPass = 0;
+  static constexpr std::uint32_t kFillPass = 1;
+
+  void dispatch(gpu::CommandRecorder& recorder, std::size_t level, std::uint32_t pass) const;
+
   gpu::GpuContext& context_;
   std::vector<ReferenceFillLevel> levels_;
+  ReferenceFillOptions options_;
   gpu::BufferId counts_;
   const gpu::MemoryArena* arena_ = nullptr;
   std::unique_ptr<gpu::ComputeKernel> kernel_;
   std::vector<gpu::BindingSet> sets_;
 };
 
-/// CPU reference of reference_fill.comp's pass 1 on one level (in place on the reference maps).
+/// CPU reference of reference_fill.comp's pass 1 on one level (in place on the reference maps), for a frame
+/// whose coverage fills (ReferenceCoverage::fills); otherwise the pass leaves the maps as they are.
 void referenceFillCpu(ImageView<const preprocess::VertexPixel> current_vertices,
                       ImageView<const preprocess::NormalPixel> current_normals,
                       ImageView<const float> current_intensity, ImageView<preprocess::VertexPixel> reference_vertices,

@@ -60,6 +60,8 @@ struct SlamOptions {
   map::PredictionOptions prediction;  ///< `levels` is taken from the tracker
   /// Inertial modes: when an IMU-carried frame is fused (tracking_state.hpp).
   ImuCarryOptions carry;
+  /// rgbd mode: when the reference view's holes are filled for the photometric term (reference_fill.hpp).
+  ReferenceFillOptions fill;
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -74,9 +76,9 @@ struct FrameResult {
   double pose_sigma_m = 0.0;
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
   double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction
-  /// The share of this frame's valid level-0 pixels that the map's prediction at its pose covers, before the
-  /// fill-in (reference_fill.hpp) gives the rest to the photometric term; −1 for a frame that was not fused
-  /// (not counted)
+  /// The share of this frame's valid level-0 pixels that the map's prediction at its pose covers, before (in
+  /// rgbd mode) the fill-in (reference_fill.hpp) gives the rest to the photometric term; −1 for a frame that
+  /// was not fused (not counted)
   double coverage = -1.0;
   double rgb_inliers = 0.0;     ///< level-0 photometric inliers of the last iteration
   int iterations = 0;           ///< Gauss-Newton iterations over all levels

@@ -148,7 +148,9 @@ class TwoFrameFixture {
   const slam::ReferenceFill& fill() {
     auto sequence = gpu::CommandSequence::create(context_, "reference fill");
     sequence->record([&](gpu::CommandRecorder& recorder) {
-      fill_->record(recorder);
+      fill_->recordCoverage(recorder);
+      recorder.computeBarrier();
+      fill_->recordFill(recorder);
       recorder.hostReadBarrier();
     });
     sequence->run();
@@ -306,8 +308,8 @@ TEST_F(GpuTest, RotationTermMatchesItsCpuReference) {
   const test::SevenScenesFrame current = test::loadSevenScenesFrame(155);
   TwoFrameFixture terms(context(), reference, current);
   const Eigen::Quaterniond q_true = (reference.T_W_C.inverse() * current.T_W_C).quaternion();
-  for (const Eigen::Quaterniond& q : {Eigen::Quaterniond::Identity(), q_true,
-                                      expSO3(Eigen::Vector3d(0.03, -0.06, 0.02)) * q_true}) {
+  for (const Eigen::Quaterniond& q :
+       {Eigen::Quaterniond::Identity(), q_true, expSO3(Eigen::Vector3d(0.03, -0.06, 0.02)) * q_true}) {
     const NormalEquations6 gpu = terms.rotationGpu(q);
     const NormalEquations6 cpu = terms.rotationCpu(q);
     ASSERT_GT(cpu.inliers, 5000.0) << "most of the 160 × 120 pixels have a gradient";
@@ -409,11 +411,11 @@ TEST_F(GpuTest, ReferenceFillGivesThePredictionsHolesTheFramesMapsForThePhotomet
     std::vector<VertexPixel> vertices = vertices_before[l];
     std::vector<NormalPixel> normals = normals_before[l];
     std::vector<float> intensity = intensity_before[l];
-    slam::referenceFillCpu(maps.hostImage<const VertexPixel>(maps.current(l).vertices, l),
-                           maps.hostImage<const NormalPixel>(maps.current(l).normals, l),
-                           maps.hostImage<const float>(maps.current(l).intensity, l),
-                           {vertices.data(), camera.width, camera.height}, {normals.data(), camera.width, camera.height},
-                           {intensity.data(), camera.width, camera.height}, l == 0);
+    slam::referenceFillCpu(
+        maps.hostImage<const VertexPixel>(maps.current(l).vertices, l),
+        maps.hostImage<const NormalPixel>(maps.current(l).normals, l),
+        maps.hostImage<const float>(maps.current(l).intensity, l), {vertices.data(), camera.width, camera.height},
+        {normals.data(), camera.width, camera.height}, {intensity.data(), camera.width, camera.height}, l == 0);
     const auto gpu_vertices = maps.hostImage<const VertexPixel>(maps.reference(l).vertices, l);
     const auto gpu_normals = maps.hostImage<const NormalPixel>(maps.reference(l).normals, l);
     const auto gpu_intensity = maps.hostImage<const float>(maps.reference(l).intensity, l);

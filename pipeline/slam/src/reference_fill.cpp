@@ -80,12 +80,6 @@ void ReferenceFill::recordFill(gpu::CommandRecorder& recorder) const {
   for (std::size_t l = 0; l < levels_.size(); ++l) dispatch(recorder, l, kFillPass);
 }
 
-void ReferenceFill::record(gpu::CommandRecorder& recorder) const {
-  recordCoverage(recorder);
-  recorder.computeBarrier();
-  recordFill(recorder);
-}
-
 ReferenceCoverage ReferenceFill::coverage() const {
   std::uint32_t counts[2];
   std::memcpy(counts, arena_->buffer(counts_).mapped, sizeof(counts));

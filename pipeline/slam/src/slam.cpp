@@ -27,9 +27,12 @@ SlamMode slamModeFromName(const std::string& name) {
 
 const char* slamModeName(SlamMode mode) {
   switch (mode) {
-    case SlamMode::kRgbdInertial: return "rgbdi";
-    case SlamMode::kGyro: return "gyro";
-    case SlamMode::kRgbd: break;
+    case SlamMode::kRgbdInertial:
+      return "rgbdi";
+    case SlamMode::kGyro:
+      return "gyro";
+    case SlamMode::kRgbd:
+      break;
   }
   return "rgbd";
 }
@@ -80,9 +83,10 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
     imu_options.noise = calibration.imu;
     estimator_ = std::make_unique<estimator::TwoStateEstimator>(estimator_options, imu_options, calibration.T_S_C);
     // Only the accelerometer can carry what the dense terms give up: gyro mode takes them whole.
-    const DenseTermsOptions dense_terms = options.mode == SlamMode::kRgbdInertial
-                                              ? options.dense_terms
-                                              : DenseTermsOptions{.information_scale = 1.0, .icp_min_constraint_share = 0.0};
+    const DenseTermsOptions dense_terms =
+        options.mode == SlamMode::kRgbdInertial
+            ? options.dense_terms
+            : DenseTermsOptions{.information_scale = 1.0, .icp_min_constraint_share = 0.0};
     dense_terms_ = std::make_unique<TrackerDenseTerms>(*tracker_, dense_terms);
   }
 
@@ -207,11 +211,11 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
 TrackingState Slam::carriedOrLost(FrameResult& result) const {
   result.pose_sigma_m = PoseVariance::of(result.state_variance).sigmaAt(far_depth_m_);
   return result.pose_sigma_m <= carry_.max_pose_to_depth_sigma * far_depth_sigma_m_ ? TrackingState::kImuCarried
-                                                                                      : TrackingState::kLost;
+                                                                                    : TrackingState::kLost;
 }
 
 void Slam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
-                              FrameResult& result) {
+                          FrameResult& result) {
   NavState x;
   if (previous != nullptr) x = *previous;
   x.r_W_C = result.T_W_C.translation();
@@ -221,7 +225,8 @@ void Slam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu,
     const std::span<const ImuSample> window = imu::bracketingSamples(imu, t_imu_ns - window_ns, t_imu_ns);
     const auto gravity = estimator::initialGravity(window, result.T_W_C, T_S_C_);
     if (!gravity) {  // nothing to start from yet: try again at the next frame
-      if (!result.imu_issue) result.imu_issue = imu::ImuSampleIssue{imu::ImuSampleProblem::kNoSamples, t_imu_ns, t_imu_ns};
+      if (!result.imu_issue)
+        result.imu_issue = imu::ImuSampleIssue{imu::ImuSampleProblem::kNoSamples, t_imu_ns, t_imu_ns};
       return;
     }
     x.q_I_W = gravity->q_I_W;

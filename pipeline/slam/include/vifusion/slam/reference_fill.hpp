@@ -15,9 +15,9 @@
 // marginalisation prior, so the filled pixels would count it twice, and the IMU carries the pose through
 // the holes instead (tracking_state.hpp).
 //
-// Lifecycle: construct (declares the counts buffer in the plan) → build(arena) → record() (or
-// recordCoverage() alone) into a command sequence once → after each submission, coverage() reads what the
-// prediction covered.
+// Lifecycle: construct (declares the counts buffer in the plan) → build(arena) → recordCoverage() and (where
+// the mode fills) recordFill() into a command sequence once → after each submission, coverage() reads what
+// the prediction covered.
 
 #include <cstdint>
 #include <memory>
@@ -91,8 +91,6 @@ class ReferenceFill {
   /// (ReferenceCoverage::fills): after recordCoverage and a barrier, before
   /// DenseTracker::recordReferenceIntensity.
   void recordFill(gpu::CommandRecorder& recorder) const;
-  /// recordCoverage, a barrier, recordFill.
-  void record(gpu::CommandRecorder& recorder) const;
   /// The last completed submission's counts.
   ReferenceCoverage coverage() const;
 

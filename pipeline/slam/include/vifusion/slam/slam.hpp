@@ -69,7 +69,7 @@ struct SlamOptions {
 
 struct FrameResult {
   int64_t t_ns = 0;
-  SE3d T_W_C;                   ///< camera pose in the map world (first camera frame)
+  SE3d T_W_C;                                        ///< camera pose in the map world (first camera frame)
   TrackingState tracking = TrackingState::kTracked;  ///< tracking_state.hpp; the first frame is kTracked
   /// Inertial frames the dense terms did not track: the pose's σ_p at the far end of the depth range, the
   /// quantity ImuCarryOptions bounds [m]; 0 otherwise
@@ -80,14 +80,14 @@ struct FrameResult {
   /// rgbd mode) the fill-in (reference_fill.hpp) gives the rest to the photometric term; −1 for a frame that
   /// was not fused (not counted)
   double coverage = -1.0;
-  double rgb_inliers = 0.0;     ///< level-0 photometric inliers of the last iteration
-  int iterations = 0;           ///< Gauss-Newton iterations over all levels
-  uint32_t surfels = 0;         ///< surfels in the map after this frame
-  uint32_t map_overflow = 0;    ///< surfels that did not fit so far (map-full policy: map_maintenance.hpp)
-  uint32_t map_evicted = 0;     ///< inactive surfels the map-full policy evicted in this frame
-  double preprocess_ms = 0.0;   ///< wall time of upload + preprocessing
-  double tracking_ms = 0.0;     ///< wall time of all Gauss-Newton iterations
-  double mapping_ms = 0.0;      ///< wall time of fusion, cleanup, compaction and prediction
+  double rgb_inliers = 0.0;    ///< level-0 photometric inliers of the last iteration
+  int iterations = 0;          ///< Gauss-Newton iterations over all levels
+  uint32_t surfels = 0;        ///< surfels in the map after this frame
+  uint32_t map_overflow = 0;   ///< surfels that did not fit so far (map-full policy: map_maintenance.hpp)
+  uint32_t map_evicted = 0;    ///< inactive surfels the map-full policy evicted in this frame
+  double preprocess_ms = 0.0;  ///< wall time of upload + preprocessing
+  double tracking_ms = 0.0;    ///< wall time of all Gauss-Newton iterations
+  double mapping_ms = 0.0;     ///< wall time of fusion, cleanup, compaction and prediction
   /// Inertial modes: the estimator holds this frame's state (tracked, or started or restarted at this
   /// frame); false in rgbd mode and while the estimator waits for IMU samples to start from.
   bool inertial = false;
@@ -160,7 +160,7 @@ class Slam {
   /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last
   /// tracked one (the map's view the camera is most likely to come back to).
   SE3d T_W_reference_;
-  SE3d T_previous_current_;  ///< last motion between two tracked frames: the constant-velocity guess
+  SE3d T_previous_current_;   ///< last motion between two tracked frames: the constant-velocity guess
   int rgbd_lost_frames_ = 0;  ///< RGB-D tracking: lost frames since the last tracked one
   SE3d T_reference_guess_;    ///< during such a run: the pose guessed by continuing the motion, in the reference
 };

@@ -6,7 +6,9 @@
 // for T_ref_cur ← exp(δ)·T_ref_cur, δ = [ρ, φ]. I_ref and ∇I_ref are sampled bilinearly.
 // Gates: current vertex valid, π(q) inside the image with its 2×2 neighbourhood, reference depth
 // at π(q) valid and within max_depth_difference_m of q.z (occlusions), ‖∇I_ref‖ ≥ min_gradient,
-// and reference depth valid on the whole support of the sample (support_radius_px).
+// and reference depth valid on the whole support of the sample (support_radius_px). A reference pixel is
+// model when its depth is valid and, unless use_reference_fill, the map predicted it (vertex w ≠ 0; the
+// fill-in from the previous frame has w = 0, slam/reference_fill.hpp).
 // Weight: 1/σ² times a Huber weight on r/σ, σ² = σ_I² + (σ_px·‖∇I_ref‖)² (intensity noise plus the
 // positional uncertainty of the predicted reference image, PhotometricOptions).
 //
@@ -35,6 +37,10 @@ layout(std430, binding = 6) restrict writeonly buffer Partials { float partials[
 
 #include "reduce/normal_equations.glsl"
 
+bool onModel(vec4 reference_vertex) {
+  return reference_vertex.z > 0.0 && (params.use_reference_fill != 0 || reference_vertex.w != 0.0);
+}
+
 void neAddItem(inout float acc[NE_TERMS], int i) {
   const vec4 p = cur_vertices[i];
   if (!(p.z > 0.0)) return;
@@ -54,8 +60,8 @@ void neAddItem(inout float acc[NE_TERMS], int i) {
   const int j = y0 * params.width + x0;
   // Occlusion gate on the nearest reference pixel's depth.
   const int nearest = j + (ay >= 0.5 ? params.width : 0) + (ax >= 0.5 ? 1 : 0);
-  const float z_ref = ref_vertices[nearest].z;
-  if (!(z_ref > 0.0) || abs(q.z - z_ref) > params.max_depth_difference_m) return;
+  const vec4 v_ref = ref_vertices[nearest];
+  if (!onModel(v_ref) || abs(q.z - v_ref.z) > params.max_depth_difference_m) return;
 
   const float w00 = (1.0 - ax) * (1.0 - ay), w10 = ax * (1.0 - ay), w01 = (1.0 - ax) * ay, w11 = ax * ay;
   const float intensity = w00 * ref_intensity[j] + w10 * ref_intensity[j + 1] + w01 * ref_intensity[j + params.width] +
@@ -69,7 +75,7 @@ void neAddItem(inout float acc[NE_TERMS], int i) {
   for (int dy = 1 - params.support_radius_px; dy <= params.support_radius_px; ++dy) {
     const int row = clamp(y0 + dy, 0, params.height - 1) * params.width;
     for (int dx = 1 - params.support_radius_px; dx <= params.support_radius_px; ++dx) {
-      if (!(ref_vertices[row + clamp(x0 + dx, 0, params.width - 1)].z > 0.0)) return;
+      if (!onModel(ref_vertices[row + clamp(x0 + dx, 0, params.width - 1)])) return;
     }
   }
 

@@ -6,19 +6,19 @@
 // more observations), the prediction covers little of it; this frame, at the pose the reference is
 // rendered at, covers all of it. Both are in the same camera frame, so a hole is filled by a copy.
 //
-// Only the photometric term sees the fill: a filled normal carries w = 0, which the ICP reads as "no model"
-// (icp_reduce.comp), so the ICP stays frame to model: point-to-plane between two raw depth images locks onto
-// the disparity quantisation bands both share (tests/bench/README.md, "Reference fill-in").
+// Only the photometric term sees the fill, and only when asked: a filled vertex carries w = 0, which
+// photometric_reduce.comp counts as model only with use_reference_fill (Slam's fallback for a frame the map
+// alone does not track), and a filled normal w = 0, which the ICP reads as "no model" (icp_reduce.comp), so
+// the ICP stays frame to model: point-to-plane between two raw depth images locks onto the disparity
+// quantisation bands both share (tests/bench/README.md, "Reference fill-in").
 //
 //   pass 0 (level 0): counts[0] += pixels where this frame has a vertex, counts[1] += those of them the
 //                     prediction covers (one atomic add per workgroup after a shared-memory sum): the
 //                     coverage the host reports;
-//   pass 1 (every level): only while counts[1] < max_coverage · counts[0] (the map cannot hold the view on
-//                     its own: ReferenceFillOptions), a pixel whose reference vertex is invalid (z ≤ 0) and
-//                     current vertex valid takes the current vertex and the current normal with w = 0, at
-//                     level 0 also the intensity
-//                     (the coarser reference intensities are built from level 0 afterwards). Pixels the
-//                     prediction covers are left alone.
+//   pass 1 (every level): a pixel whose reference vertex is invalid (z ≤ 0) and current vertex valid takes
+//                     the current vertex and normal, both with w = 0 (kFilledVertexW), at level 0 also the
+//                     intensity (the coarser reference intensities are built from level 0 afterwards).
+//                     Pixels the prediction covers are left alone.
 // The host clears counts before pass 0 and reads them after the submission.
 //
 // Bindings (set 0, std430, one level, row-major):
@@ -41,7 +41,6 @@ layout(push_constant) uniform Params {
   int height;
   uint fill_intensity;  // 1 at level 0
   uint pass;            // 0: count (level 0), 1: fill
-  float max_coverage;   // pass 1 fills only below this share of covered pixels, (0, 1]
 } params;
 
 layout(set = 0, binding = 0, std430) restrict readonly buffer CurrentVertices { vec4 cur_vertices[]; };
@@ -76,7 +75,7 @@ void fill(int i) {
   if (ref_vertices[i].z > 0.0) return;
   const vec4 p = cur_vertices[i];
   if (!(p.z > 0.0)) return;
-  ref_vertices[i] = p;
+  ref_vertices[i] = vec4(p.xyz, 0.0);
   ref_normals[i] = vec4(cur_normals[i].xyz, 0.0);
   if (params.fill_intensity != 0u) ref_intensity[i] = cur_intensity[i];
 }
@@ -87,7 +86,7 @@ void main() {
   const int i = pixel.y * params.width + pixel.x;
   if (params.pass == 0u) {
     count(inside, i);  // every invocation reaches the barriers
-  } else if (inside && float(counts[1]) < params.max_coverage * float(counts[0])) {
+  } else if (inside) {
     fill(i);
   }
 }

@@ -126,25 +126,28 @@ void DenseTracker::recordReferenceIntensity(gpu::CommandRecorder& recorder) cons
     const PinholeCamera& fine = stage_->camera(l - 1);
     const PinholeCamera& coarse = stage_->camera(l);
     const preprocess::PyramidDownIntensityParams params{fine.width, fine.height};
-    recorder.dispatch(*pyramid_kernel_, pyramid_sets_[l - 1],
-                      pyramid_kernel_->groupsFor(static_cast<uint32_t>(coarse.width), static_cast<uint32_t>(coarse.height)),
-                      params);
+    recorder.dispatch(
+        *pyramid_kernel_, pyramid_sets_[l - 1],
+        pyramid_kernel_->groupsFor(static_cast<uint32_t>(coarse.width), static_cast<uint32_t>(coarse.height)), params);
     recorder.computeBarrier();
   }
   for (int l = 0; l < options_.levels; ++l) {
     const PinholeCamera& camera = stage_->camera(l);
     const preprocess::IntensityGradientParams params{camera.width, camera.height};
-    recorder.dispatch(*gradient_kernel_, gradient_sets_[l],
-                      gradient_kernel_->groupsFor(static_cast<uint32_t>(camera.width), static_cast<uint32_t>(camera.height)),
-                      params);
+    recorder.dispatch(
+        *gradient_kernel_, gradient_sets_[l],
+        gradient_kernel_->groupsFor(static_cast<uint32_t>(camera.width), static_cast<uint32_t>(camera.height)), params);
   }
   recorder.computeBarrier();
 }
 
-NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics) {
+NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics,
+                                        ReferencePixels reference) {
   const PinholeCamera& camera = stage_->camera(level);
   icp_->setPose(level, T_ref_cur, camera);
-  if (options_.use_photometric) photometric_->setPose(level, T_ref_cur, camera);
+  if (options_.use_photometric) {
+    photometric_->setPose(level, T_ref_cur, camera, reference == ReferencePixels::kMapAndFill);
+  }
   level_sequences_[level]->run();
   NormalEquations6 sum = icp_->result(level);
   statistics.icp_inliers = sum.inliers;
@@ -170,16 +173,17 @@ SE3d DenseTracker::prealignRotation(const SE3d& T_prev_cur_guess) const {
   return SE3d(rotation_->align(T_prev_cur_guess.quaternion()), T_prev_cur_guess.translation());
 }
 
-TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess) {
+TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess, ReferencePixels reference) {
   TrackingResult result;
   result.T_ref_cur = T_ref_cur_guess;
+  result.reference = reference;
   SE3d T_ref_cur = T_ref_cur_guess;
   Vector6d prior_information;
   prior_information << Eigen::Vector3d::Constant(1.0 / (options_.motion_prior_sigma_m * options_.motion_prior_sigma_m)),
       Eigen::Vector3d::Constant(1.0 / (options_.motion_prior_sigma_rad * options_.motion_prior_sigma_rad));
   for (int l = options_.levels - 1; l >= 0; --l) {
     for (int i = 0; i < options_.iterations[l]; ++i) {
-      NormalEquations6 system = evaluate(l, T_ref_cur, result);
+      NormalEquations6 system = evaluate(l, T_ref_cur, result, reference);
       if (system.inliers < 6.0) {
         result.lost = true;
         return result;

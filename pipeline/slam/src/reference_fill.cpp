@@ -20,25 +20,17 @@ std::vector<ReferenceFillLevel> trackerLevels(const DenseTracker& tracker) {
 }  // namespace
 
 void ReferenceFillOptions::validate() const {
-  if (!(max_coverage > 0.0 && max_coverage <= 1.0)) {
-    throw Error("reference fill option 'max_coverage' must be in (0, 1]");
-  }
+  if (!(max_coverage >= 0.0 && max_coverage <= 1.0))
+    throw Error("reference fill option 'max_coverage' must be in [0, 1]");
 }
 
-bool ReferenceCoverage::fills(double max_coverage) const {
-  return static_cast<float>(covered_pixels) < static_cast<float>(max_coverage) * static_cast<float>(valid_pixels);
-}
-
-ReferenceFill::ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, std::vector<ReferenceFillLevel> levels,
-                             const ReferenceFillOptions& options)
-    : context_(context), levels_(std::move(levels)), options_(options) {
-  options_.validate();
+ReferenceFill::ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, std::vector<ReferenceFillLevel> levels)
+    : context_(context), levels_(std::move(levels)) {
   counts_ = plan.addBuffer("slam.reference_fill.counts", 2 * sizeof(std::uint32_t), gpu::MemoryUse::Readback);
 }
 
-ReferenceFill::ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, const DenseTracker& tracker,
-                             const ReferenceFillOptions& options)
-    : ReferenceFill(context, plan, trackerLevels(tracker), options) {}
+ReferenceFill::ReferenceFill(gpu::GpuContext& context, gpu::CapacityPlan& plan, const DenseTracker& tracker)
+    : ReferenceFill(context, plan, trackerLevels(tracker)) {}
 
 ReferenceFill::~ReferenceFill() = default;
 
@@ -63,8 +55,7 @@ void ReferenceFill::build(const gpu::MemoryArena& arena) {
 
 void ReferenceFill::dispatch(gpu::CommandRecorder& recorder, std::size_t level, std::uint32_t pass) const {
   const PinholeCamera& camera = levels_[level].camera;
-  const ReferenceFillParams params{camera.width, camera.height, level == 0 ? 1u : 0u, pass,
-                                   static_cast<float>(options_.max_coverage)};
+  const ReferenceFillParams params{camera.width, camera.height, level == 0 ? 1u : 0u, pass};
   recorder.dispatch(
       *kernel_, sets_[level],
       kernel_->groupsFor(static_cast<std::uint32_t>(camera.width), static_cast<std::uint32_t>(camera.height)), params);
@@ -109,7 +100,7 @@ void referenceFillCpu(ImageView<const preprocess::VertexPixel> current_vertices,
       if (reference_vertices(u, v).z() > 0.0f) continue;
       const preprocess::VertexPixel& p = current_vertices(u, v);
       if (!(p.z() > 0.0f)) continue;
-      reference_vertices(u, v) = p;
+      reference_vertices(u, v) << p.head<3>(), kFilledVertexW;
       reference_normals(u, v) << current_normals(u, v).head<3>(), 0.0f;
       if (fill_intensity) reference_intensity(u, v) = current_intensity(u, v);
     }

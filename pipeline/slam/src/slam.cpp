@@ -53,6 +53,7 @@ void SlamOptions::validate() const {
 Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options)
     : mode_(options.mode),
       carry_(options.carry),
+      fill_(options.fill),
       time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns),
       T_S_C_(calibration.T_S_C) {
   options.validate();
@@ -72,7 +73,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   prediction.levels = options.tracker.levels;
   prediction_ = std::make_unique<map::ModelPrediction>(context, plan_, *map_, camera, prediction);
   exporter_ = std::make_unique<map::MapExport>(context, plan_, *map_);
-  reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_, options.fill);
+  reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_);
   if (mode_ != SlamMode::kRgbd) {
     estimator::EstimatorOptions estimator_options = options.estimator;
     estimator_options.mode =
@@ -139,7 +140,7 @@ namespace {
 
 /// The recovery's choice between two guesses: a verified one over a lost one, else the one with more ICP
 /// inliers (both lost: the second, the continued motion, is the better guess of where the camera is).
-const TrackingResult& better(const TrackingResult& a, const TrackingResult& b) {
+TrackingResult better(const TrackingResult& a, const TrackingResult& b) {
   if (a.lost != b.lost) return a.lost ? b : a;
   if (a.lost) return b;
   return a.icp_inliers > b.icp_inliers ? a : b;
@@ -147,21 +148,29 @@ const TrackingResult& better(const TrackingResult& a, const TrackingResult& b) {
 
 }  // namespace
 
+TrackingResult Slam::trackMapThenFill(const SE3d& T_reference_current_guess) {
+  if (reference_fill_->coverage().fills(fill_.max_coverage)) {
+    return tracker_->track(T_reference_current_guess, ReferencePixels::kMapAndFill);
+  }
+  const TrackingResult on_map = tracker_->track(T_reference_current_guess, ReferencePixels::kMap);
+  if (!on_map.lost) return on_map;
+  return tracker_->track(T_reference_current_guess, ReferencePixels::kMapAndFill);
+}
+
 void Slam::trackRgbd(FrameResult& result) {
   // The motion since the previous frame as it was, its rotation pre-aligned to the previous frame's images.
   const SE3d motion = tracker_->prealignRotation(T_previous_current_);
   TrackingResult tracking;
   if (rgbd_lost_frames_ == 0) {
-    tracking = tracker_->track(motion);
+    tracking = trackMapThenFill(motion);
     T_reference_guess_ = motion;
   } else {
     // The reference is still the last tracked view: the camera is back at (or never left) that pose, or it
     // kept moving as it did; whichever guess tracks, verified, wins.
     T_reference_guess_ = T_reference_guess_ * motion;
-    const TrackingResult back = tracker_->track(SE3d());
-    const TrackingResult moving = tracker_->track(T_reference_guess_);
-    tracking = better(back, moving);
+    tracking = better(trackMapThenFill(SE3d()), trackMapThenFill(T_reference_guess_));
   }
+  result.used_reference_fill = !tracking.lost && tracking.reference == ReferencePixels::kMapAndFill;
   result.tracking = tracking.lost ? TrackingState::kLost : TrackingState::kTracked;
   result.icp_inliers = tracking.icp_inliers;
   result.icp_candidates = tracking.icp_candidates;

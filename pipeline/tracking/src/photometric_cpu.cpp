@@ -37,8 +37,8 @@ NormalEquations6 photometricNormalEquationsCpu(ImageView<const preprocess::Verte
       const int y0 = static_cast<int>(y);
       const float ax = x - static_cast<float>(x0);
       const float ay = y - static_cast<float>(y0);
-      const float z_ref = reference_vertices(x0 + (ax >= 0.5f ? 1 : 0), y0 + (ay >= 0.5f ? 1 : 0)).z();
-      if (!(z_ref > 0.0f) || std::abs(q.z() - z_ref) > params.max_depth_difference_m) continue;
+      const Vector4f& nearest = reference_vertices(x0 + (ax >= 0.5f ? 1 : 0), y0 + (ay >= 0.5f ? 1 : 0));
+      if (!params.onModel(nearest) || std::abs(q.z() - nearest.z()) > params.max_depth_difference_m) continue;
 
       const float w00 = (1.0f - ax) * (1.0f - ay), w10 = ax * (1.0f - ay), w01 = (1.0f - ax) * ay, w11 = ax * ay;
       const float intensity = w00 * reference_intensity(x0, y0) + w10 * reference_intensity(x0 + 1, y0) +
@@ -50,7 +50,7 @@ NormalEquations6 photometricNormalEquationsCpu(ImageView<const preprocess::Verte
       for (int dy = 1 - params.support_radius_px; dy <= params.support_radius_px && supported; ++dy) {
         const int row = std::clamp(y0 + dy, 0, params.height - 1);
         for (int dx = 1 - params.support_radius_px; dx <= params.support_radius_px; ++dx) {
-          if (!(reference_vertices(std::clamp(x0 + dx, 0, params.width - 1), row).z() > 0.0f)) {
+          if (!params.onModel(reference_vertices(std::clamp(x0 + dx, 0, params.width - 1), row))) {
             supported = false;
             break;
           }

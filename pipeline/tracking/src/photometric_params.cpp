@@ -25,7 +25,7 @@ void PhotometricOptions::validate() const {
 }
 
 PhotometricParams PhotometricParams::make(const SE3d& T_ref_cur, const PinholeCamera& camera,
-                                          const PhotometricOptions& options, int level) {
+                                          const PhotometricOptions& options, int level, bool use_reference_fill) {
   PhotometricParams params;
   setPoseAndCamera(params, T_ref_cur, camera);
   params.sigma_intensity = options.sigma_intensity;
@@ -34,6 +34,7 @@ PhotometricParams PhotometricParams::make(const SE3d& T_ref_cur, const PinholeCa
   params.max_depth_difference_m = options.max_depth_difference_m;
   params.sigma_position_px = options.sigma_position_px;
   params.support_radius_px = level > 0 ? 3 : 2;
+  params.use_reference_fill = use_reference_fill ? 1 : 0;
   return params;
 }
 

@@ -21,8 +21,9 @@ void PhotometricTerm::build(const gpu::MemoryArena& arena, std::span<const Photo
   reduction_.build(arena, buffers);
 }
 
-void PhotometricTerm::setPose(int level, const SE3d& T_ref_cur, const PinholeCamera& camera) const {
-  const PhotometricParams params = PhotometricParams::make(T_ref_cur, camera, options_, level);
+void PhotometricTerm::setPose(int level, const SE3d& T_ref_cur, const PinholeCamera& camera,
+                              bool use_reference_fill) const {
+  const PhotometricParams params = PhotometricParams::make(T_ref_cur, camera, options_, level, use_reference_fill);
   reduction_.writeParams(level, &params);
 }
 

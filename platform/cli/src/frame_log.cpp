@@ -9,8 +9,9 @@ namespace vifusion::cli {
 void FrameLog::add(const slam::FrameResult& result) {
   rows_.push_back({result.t_ns, result.tracking, result.pose_sigma_m, result.inertial && !result.imu_issue.has_value(),
                    result.icp_inliers, result.icp_candidates, result.rgb_inliers, result.coverage,
-                   result.iterations, result.surfels, result.map_evicted, result.preprocess_ms,
-                   result.tracking_ms, result.mapping_ms, result.imu_chi2, result.vision_chi2, result.vision_rejected});
+                   result.used_reference_fill, result.iterations, result.surfels, result.map_evicted,
+                   result.preprocess_ms, result.tracking_ms, result.mapping_ms, result.imu_chi2, result.vision_chi2,
+                   result.vision_rejected});
 }
 
 void FrameLog::write(const std::filesystem::path& path) const {
@@ -18,14 +19,14 @@ void FrameLog::write(const std::filesystem::path& path) const {
   std::FILE* file = std::fopen(temporary.c_str(), "w");
   if (file == nullptr) throw Error(temporary + ": cannot be written");
   std::fprintf(file,
-               "#t_ns,tracking,lost,pose_sigma_m,imu,icp_inliers,icp_candidates,rgb_inliers,coverage,iterations,"
+               "#t_ns,tracking,lost,pose_sigma_m,imu,icp_inliers,icp_candidates,rgb_inliers,coverage,fill,iterations,"
                "surfels,evicted,preprocess_ms,tracking_ms,"
                "mapping_ms,imu_chi2,vision_chi2,vision_rejected\n");
   for (const Row& r : rows_) {
-    std::fprintf(file, "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%u,%u,%.3f,%.3f,%.3f,%.6g,%.6g,%d\n",
+    std::fprintf(file, "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%.3f,%.3f,%.3f,%.6g,%.6g,%d\n",
                  static_cast<long long>(r.t_ns), static_cast<int>(r.tracking),
                  r.tracking == slam::TrackingState::kLost ? 1 : 0, r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers,
-                 r.icp_candidates, r.rgb_inliers, r.coverage, r.iterations, r.surfels, r.evicted,
+                 r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0, r.iterations, r.surfels, r.evicted,
                  r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.imu_chi2, r.vision_chi2, r.vision_rejected ? 1 : 0);
   }
   if (std::fclose(file) != 0) throw Error(temporary + ": write failed");

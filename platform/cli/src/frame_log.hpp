@@ -10,7 +10,9 @@
 //   imu                   1: the estimator used this frame's IMU samples, 0: refused or rgbd mode
 //   icp_inliers, icp_candidates, rgb_inliers   level-0 counts of the last iteration (FrameResult)
 //   coverage              share of the frame's valid pixels the map's prediction at its pose covers (the
-//                         fill-in gives the rest to the photometric term); −1: not fused
+//                         fill-in fills the rest); −1: not fused
+//   fill                  1: rgbd tracking used the previous frame's fill-in (slam/reference_fill.hpp): the
+//                         map covered too little of the view, or the frame failed against the map alone
 //   iterations            Gauss-Newton iterations over all levels
 //   surfels               surfels in the map after the frame
 //   evicted               inactive surfels the map-full policy evicted in the frame
@@ -45,6 +47,7 @@ class FrameLog {
     bool imu = false;
     double icp_inliers = 0.0, icp_candidates = 0.0, rgb_inliers = 0.0;
     double coverage = 0.0;
+    bool fill = false;
     int iterations = 0;
     uint32_t surfels = 0;
     uint32_t evicted = 0;

@@ -14,6 +14,8 @@ struct PhotometricParams {
   float max_depth_difference_m;  // occlusion gate |q.z − z_ref| [m]
   float sigma_position_px;     // positional σ of the reference image [px]: adds (σ_px·‖∇I_ref‖)² to σ_I²
   int support_radius_px;       // reference depth must be valid on [x0−r+1, x0+r]² around the sample's cell
+  int use_reference_fill;      // 1: filled-in reference pixels (vertex w = 0) count as model, 0: the map's only
+  int pad0, pad1, pad2;
 };
 
 #endif

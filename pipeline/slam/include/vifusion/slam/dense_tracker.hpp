@@ -79,16 +79,23 @@ struct TrackerOptions {
   void validate() const;
 };
 
+/// Which reference pixels the photometric term aligns to (reference_fill.hpp).
+enum class ReferencePixels {
+  kMap,         ///< the map's prediction only
+  kMapAndFill,  ///< also the holes filled in from the previous fused frame (the fallback)
+};
+
 /// The outcome of aligning one frame.
 struct TrackingResult {
-  SE3d T_ref_cur;            ///< estimated pose of the current camera in the reference camera
-  bool lost = false;         ///< too few inliers or a degenerate system: T_ref_cur is the guess
+  SE3d T_ref_cur;               ///< estimated pose of the current camera in the reference camera
+  bool lost = false;            ///< too few inliers or a degenerate system: T_ref_cur is the guess
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
   double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction (the inliers' denominator)
   /// level-0 pixels with a valid vertex (the photometric term's candidates; the image size when it is off)
   double valid_pixels = 0.0;
-  double rgb_inliers = 0.0;  ///< level-0 photometric inliers of the last iteration
-  int iterations = 0;        ///< Gauss-Newton iterations run over all levels
+  double rgb_inliers = 0.0;                           ///< level-0 photometric inliers of the last iteration
+  int iterations = 0;                                 ///< Gauss-Newton iterations run over all levels
+  ReferencePixels reference = ReferencePixels::kMap;  ///< what the photometric term aligned to
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();  ///< last level-0 system (information)
 };
 
@@ -106,18 +113,18 @@ class DenseTracker {
   /// Uploads and preprocesses a frame (no allocation).
   void preprocess(const RgbdFrame& frame);
   /// Aligns the preprocessed frame to the reference view starting from `T_ref_cur_guess`.
-  TrackingResult track(const SE3d& T_ref_cur_guess);
+  TrackingResult track(const SE3d& T_ref_cur_guess, ReferencePixels reference = ReferencePixels::kMap);
   /// A guess of the motion from the previous frame to this one with its rotation refined by the
   /// rotation-only pre-alignment (unchanged when that is off or there is no previous frame).
   SE3d prealignRotation(const SE3d& T_prev_cur_guess) const;
-
 
   /// The dense terms' normal equations at `level` for the pose T_ref_cur, over a LEFT perturbation in
   /// the reference camera frame: T_ref_cur ← exp(δ)·T_ref_cur, δ = [ρ; φ] (se3.hpp), H = JᵀWJ, b = JᵀWr,
   /// so the Gauss-Newton step is δ = −H⁻¹b. Each term is already weighted by its inverse measurement
   /// variance. Fills the inlier counts of `statistics`. For estimators that add their own terms (the
   /// two-state RGB-D-inertial solver); track() runs the same evaluation.
-  NormalEquations6 evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics);
+  NormalEquations6 evaluate(int level, const SE3d& T_ref_cur, TrackingResult& statistics,
+                            ReferencePixels reference = ReferencePixels::kMap);
   /// The ICP term's part of the last evaluate() at `level` (icp_degeneracy.hpp needs it on its own).
   NormalEquations6 icpEquations(int level) const;
   /// The tracking-health test on the statistics of a final level-0 evaluation (see min_inlier_fraction).

@@ -60,7 +60,7 @@ struct SlamOptions {
   map::PredictionOptions prediction;  ///< `levels` is taken from the tracker
   /// Inertial modes: when an IMU-carried frame is fused (tracking_state.hpp).
   ImuCarryOptions carry;
-  /// rgbd mode: when the reference view's holes are filled for the photometric term (reference_fill.hpp).
+  /// rgbd mode: when the photometric term uses the reference view's fill-in (reference_fill.hpp).
   ReferenceFillOptions fill;
 
   /// Throws vifusion::Error naming the field out of range.
@@ -77,9 +77,11 @@ struct FrameResult {
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
   double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction
   /// The share of this frame's valid level-0 pixels that the map's prediction at its pose covers, before (in
-  /// rgbd mode) the fill-in (reference_fill.hpp) gives the rest to the photometric term; −1 for a frame that
-  /// was not fused (not counted)
+  /// rgbd mode) the fill-in (reference_fill.hpp) fills the rest; −1 for a frame that was not fused (not counted)
   double coverage = -1.0;
+  /// rgbd tracking: the frame was tracked with the previous frame's fill-in (reference_fill.hpp): the map
+  /// covered too little of the view, or the frame failed against the map's pixels alone
+  bool used_reference_fill = false;
   double rgb_inliers = 0.0;    ///< level-0 photometric inliers of the last iteration
   int iterations = 0;          ///< Gauss-Newton iterations over all levels
   uint32_t surfels = 0;        ///< surfels in the map after this frame
@@ -126,9 +128,13 @@ class Slam {
  private:
   void recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const;
   /// Frame-to-model tracking by the dense terms alone from the constant-velocity guess, its rotation
-  /// pre-aligned; after a lost frame also from the last tracked pose (recovery). Sets result.T_W_C and
-  /// updates the constant-velocity guess.
+  /// pre-aligned; after a lost frame also from the last tracked pose (recovery); with the reference fill-in
+  /// where the map covers too little of the view, or as the fallback of a guess that fails against the map's
+  /// pixels (reference_fill.hpp). Sets result.T_W_C and updates the constant-velocity guess.
   void trackRgbd(FrameResult& result);
+  /// The dense tracker from one guess: with the fill-in when the map covers too little of the reference view,
+  /// else against the map's pixels and, when that fails, with the fill-in too.
+  TrackingResult trackMapThenFill(const SE3d& T_reference_current_guess);
   /// The two-state estimator's frame; falls back to trackRgbd() when the IMU samples are refused.
   void trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result);
   /// kImuCarried while the estimator's pose uncertainty is within ImuCarryOptions' bound, else kLost.
@@ -139,6 +145,7 @@ class Slam {
 
   SlamMode mode_;
   ImuCarryOptions carry_;
+  ReferenceFillOptions fill_;
   double far_depth_m_ = 0.0;        ///< the depth gate's far end: where the IMU-carry bound is taken [m]
   double far_depth_sigma_m_ = 0.0;  ///< the sensor's axial noise there (the tracker's model) [m]
   std::int64_t time_shift_cam_imu_ns_ = 0;

@@ -2,6 +2,7 @@
 // Parameters of the photometric term, shared verbatim by the shader (a storage buffer with the
 // layout of shaders/include/tracking/photometric_params.glsl) and the CPU reference.
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>
 
@@ -29,7 +30,8 @@ struct PhotometricOptions {
   void validate() const;
 };
 
-/// std430 mirror of PhotometricParams in the shader (24 floats).
+/// std430 mirror of PhotometricParams in the shader (28 words: the struct's size is a multiple of its vec4
+/// alignment).
 struct PhotometricParams {
   float T_ref_cur_rows[3][4] = {};
   float fx = 0, fy = 0, cx = 0, cy = 0;
@@ -46,15 +48,26 @@ struct PhotometricParams {
   /// does not have (measured on sim:living_room_1 frame 186, 49 % of the view unpredicted: it pulled
   /// level 2 by 136 mm along the wall and started the run-away).
   std::int32_t support_radius_px = 0;
+  /// 1: reference pixels filled in from the previous frame (vertex w = 0, slam/reference_fill.hpp) count as
+  /// model pixels; 0: only the map's prediction (w ≠ 0) does. The fill is the fallback of a frame the map
+  /// alone cannot track.
+  std::int32_t use_reference_fill = 0;
+  std::int32_t pad[3] = {};
 
   /// `level` is the pyramid level of `camera` (0 = full resolution); it sets support_radius_px.
   static PhotometricParams make(const SE3d& T_ref_cur, const PinholeCamera& camera, const PhotometricOptions& options,
-                                int level = 0);
+                                int level = 0, bool use_reference_fill = false);
+  /// Whether a reference vertex is a model pixel under these parameters (valid depth, and predicted by the
+  /// map unless the fill is in use): the photometric_reduce.comp test.
+  bool onModel(const Eigen::Vector4f& reference_vertex) const {
+    return reference_vertex.z() > 0.0f && (use_reference_fill != 0 || reference_vertex.w() != 0.0f);
+  }
 };
-static_assert(sizeof(PhotometricParams) == 24 * 4);
+static_assert(sizeof(PhotometricParams) == 28 * 4);
 static_assert(offsetof(PhotometricParams, width) == 64);
 static_assert(offsetof(PhotometricParams, max_depth_difference_m) == 84);
 static_assert(offsetof(PhotometricParams, sigma_position_px) == 88);
 static_assert(offsetof(PhotometricParams, support_radius_px) == 92);
+static_assert(offsetof(PhotometricParams, use_reference_fill) == 96);
 
 }  // namespace vifusion::tracking

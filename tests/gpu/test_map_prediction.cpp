@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -19,6 +20,7 @@
 #include "vifusion/map/map_maintenance.hpp"
 #include "vifusion/map/model_prediction.hpp"
 #include "vifusion/preprocess/cpu_reference.hpp"
+#include "vifusion/test/expect_error.hpp"
 #include "vifusion/test/seven_scenes_frame.hpp"
 
 namespace vifusion {
@@ -40,9 +42,10 @@ map::MapOptions mapOptions(std::uint32_t capacity) {
 /// and the index map and read every result back. Each step is its own sequence, recorded once.
 class MapRig {
  public:
-  MapRig(gpu::GpuContext& context, std::uint32_t capacity, const PinholeCamera& camera)
-      : map_(plan_, mapOptions(capacity), camera),
-        prediction_(context, plan_, map_, camera),
+  MapRig(gpu::GpuContext& context, std::uint32_t capacity, const PinholeCamera& camera,
+         const map::PredictionOptions& prediction_options = {}, const map::MapOptions* map_options = nullptr)
+      : map_(plan_, map_options != nullptr ? *map_options : mapOptions(capacity), camera),
+        prediction_(context, plan_, map_, camera, prediction_options),
         maintenance_(context, plan_, map_, camera) {
     const uint64_t surfel_bytes = uint64_t{capacity} * sizeof(Surfel);
     const uint64_t pixel_bytes = uint64_t(camera.width) * uint64_t(camera.height) * 4;
@@ -370,6 +373,118 @@ TEST_P(MapPredictionTest, RendersUnstableSurfelsOnlyWhileTheMapIsYoung) {
       EXPECT_EQ(covered, 0u);
     }
   }
+}
+
+std::size_t pixelCount(const PinholeCamera& camera) { return std::size_t(camera.width) * std::size_t(camera.height); }
+
+/// Kinds of surfel by activity (updated within δ_t) and stability (confidence ≥ threshold).
+enum class Activity { ActiveStable, ActiveUnstable, InactiveStable, InactiveUnstable };
+
+Activity activityOf(const Surfel& s, const map::PredictionParams& params) {
+  const bool active = map::framesSinceCpu(params.view, s.colour_times.z()) <= params.time_window_frames;
+  const bool stable = s.position_confidence.w() >= params.confidence_threshold;
+  return active ? (stable ? Activity::ActiveStable : Activity::ActiveUnstable)
+                : (stable ? Activity::InactiveStable : Activity::InactiveUnstable);
+}
+
+/// Per kind, how many pixels of the splat id image its surfels won.
+std::array<std::size_t, 4> pixelsWonByKind(ImageView<const std::uint32_t> ids, std::span<const Surfel> surfels,
+                                           const map::PredictionParams& params) {
+  std::array<std::size_t, 4> won{};
+  for (int y = 0; y < ids.height; ++y) {
+    for (int x = 0; x < ids.width; ++x) {
+      if (ids(x, y) != map::kNoSurfel) ++won[static_cast<std::size_t>(activityOf(surfels[ids(x, y)], params))];
+    }
+  }
+  return won;
+}
+
+// A map whose surfels take turns being active and stable, active and unstable, inactive and stable (last updated
+// 300 frames ago), inactive and unstable, with the inactive ones 5 cm in front so that they would win every
+// depth test they took part in: the active prediction shows only active stable surfels (as before), the inactive
+// one only inactive stable ones, each exactly as its CPU reference.
+TEST_P(MapPredictionTest, InactivePredictionRendersOnlyTheInactiveStableSurfels) {
+  test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
+  frame.camera.fy *= GetParam().fy_sign;
+  std::vector<Surfel> surfels = surfelsFromFrame(frame, frameGeometry(frame), 20.0f);
+  const Eigen::Vector3f camera_W = frame.T_W_C.translation().cast<float>();
+  constexpr std::uint32_t kInactiveAge = 300;  // > δ_t = 200
+  for (std::size_t i = 0; i < surfels.size(); ++i) {
+    const auto kind = static_cast<Activity>(i % 4);
+    if (kind == Activity::ActiveUnstable || kind == Activity::InactiveUnstable) {
+      surfels[i].position_confidence.w() = 1.0f;
+    }
+    if (kind == Activity::InactiveStable || kind == Activity::InactiveUnstable) {
+      surfels[i] = movedToward(surfels[i], camera_W, 0.05f);
+      surfels[i].colour_times.z() = static_cast<float>(kFrame - kInactiveAge);
+    }
+  }
+  const SE3d T_C_W = frame.T_W_C.inverse();
+  for (const map::PredictedSurfels set : {map::PredictedSurfels::kActive, map::PredictedSurfels::kInactive}) {
+    const bool inactive = set == map::PredictedSurfels::kInactive;
+    SCOPED_TRACE(inactive ? "inactive" : "active");
+    map::PredictionOptions options;
+    options.surfels = set;
+    MapRig rig(context(), 400'000, frame.camera, options);
+    EXPECT_EQ(rig.prediction().surfels(), set);
+    rig.writeMap(surfels);
+    rig.predict(T_C_W, kFrame);
+    const map::PredictionParams params = rig.prediction().makeParams(T_C_W, kFrame);
+    EXPECT_EQ(params.surfels, static_cast<std::uint32_t>(set));
+    expectPredictionMatchesCpu(rig, surfels, params);
+
+    const std::array<std::size_t, 4> won = pixelsWonByKind(rig.image<std::uint32_t>(rig.ids()), surfels, params);
+    const auto shown = static_cast<std::size_t>(inactive ? Activity::InactiveStable : Activity::ActiveStable);
+    for (std::size_t kind = 0; kind < won.size(); ++kind) {
+      SCOPED_TRACE("kind " + std::to_string(kind));
+      if (kind == shown) {
+        // A quarter of the frame's surfels, each disk √2 pixels wide: much of the image is covered.
+        EXPECT_GE(won[kind], pixelCount(frame.camera) / 4);
+      } else {
+        EXPECT_EQ(won[kind], 0u);
+      }
+    }
+  }
+}
+
+// The young-map rule (every active surfel before young_map_frames) is the active prediction's only: with a short
+// time window that leaves inactive surfels in a young map, the inactive prediction still shows only stable ones.
+TEST_P(MapPredictionTest, InactivePredictionIgnoresTheYoungMapRule) {
+  test::SevenScenesFrame frame = test::loadSevenScenesFrame(175);
+  frame.camera.fy *= GetParam().fy_sign;
+  std::vector<Surfel> surfels = surfelsFromFrame(frame, frameGeometry(frame), 20.0f);
+  map::MapOptions map_options = mapOptions(400'000);
+  map_options.time_window_frames = 5;
+  const map::PredictionOptions defaults;
+  const std::uint32_t render_frame = defaults.young_map_frames - 1;
+  for (std::size_t i = 0; i < surfels.size(); ++i) {
+    if (i % 2 == 1) surfels[i].position_confidence.w() = 1.0f;  // unstable
+    // Inactive at render_frame: 19 > 5 frames since the last update.
+    surfels[i].colour_times.y() = surfels[i].colour_times.z() = 0.0f;
+  }
+  map::PredictionOptions options;
+  options.surfels = map::PredictedSurfels::kInactive;
+  MapRig rig(context(), 400'000, frame.camera, options, &map_options);
+  rig.writeMap(surfels);
+  const SE3d T_C_W = frame.T_W_C.inverse();
+  rig.predict(T_C_W, render_frame);
+  const map::PredictionParams params = rig.prediction().makeParams(T_C_W, render_frame);
+  ASSERT_LT(params.view.frame, params.young_map_frames);
+  expectPredictionMatchesCpu(rig, surfels, params);
+  const std::array<std::size_t, 4> won = pixelsWonByKind(rig.image<std::uint32_t>(rig.ids()), surfels, params);
+  EXPECT_GE(won[static_cast<std::size_t>(Activity::InactiveStable)], pixelCount(frame.camera) / 4);
+  EXPECT_EQ(won[static_cast<std::size_t>(Activity::InactiveUnstable)], 0u);
+  EXPECT_EQ(won[static_cast<std::size_t>(Activity::ActiveStable)], 0u);
+  EXPECT_EQ(won[static_cast<std::size_t>(Activity::ActiveUnstable)], 0u);
+}
+
+TEST(PredictionOptions, ValidateNamesTheSurfelsField) {
+  EXPECT_EQ(map::PredictionOptions{}.surfels, map::PredictedSurfels::kActive);
+  map::PredictionOptions options;
+  options.surfels = map::PredictedSurfels::kInactive;
+  EXPECT_NO_THROW(options.validate());
+  options.surfels = static_cast<map::PredictedSurfels>(2);
+  test::expectError([&] { options.validate(); }, "prediction option 'surfels' must be kActive or kInactive");
 }
 
 INSTANTIATE_TEST_SUITE_P(Cameras, MapPredictionTest,

@@ -24,6 +24,9 @@ struct SubsamplePush {
 
 void PredictionOptions::validate() const {
   if (levels < 1 || levels > 8) throw Error(field("levels") + " must be in 1..8");
+  if (surfels != PredictedSurfels::kActive && surfels != PredictedSurfels::kInactive) {
+    throw Error(field("surfels") + " must be kActive or kInactive");
+  }
   if (!(min_depth_m > 0.0f)) throw Error(field("min_depth_m") + " must be > 0");
   if (max_half_footprint_px < 0 || max_half_footprint_px > 15) throw Error(field("max_half_footprint_px") + " must be in 0..15");
   if (surfel_workgroups == 0) throw Error(field("surfel_workgroups") + " must be ≥ 1");
@@ -52,15 +55,17 @@ ModelPrediction::ModelPrediction(gpu::GpuContext& context, gpu::CapacityPlan& pl
   surfels_[0] = map.surfels(0);
   surfels_[1] = map.surfels(1);
   const uint64_t pixels0 = uint64_t(camera.width) * uint64_t(camera.height);
-  params_ = plan.addBuffer("prediction.params", sizeof(PredictionParams), gpu::MemoryUse::Upload);
-  depth_bits_ = plan.addBuffer("prediction.depth_bits", pixels0 * 4, gpu::MemoryUse::DeviceLocal);
-  ids_ = plan.addBuffer("prediction.ids", pixels0 * 4, gpu::MemoryUse::DeviceLocal);
+  // Buffer names are unique in a plan: the inactive instance gets its own prefix.
+  const std::string name = options_.surfels == PredictedSurfels::kInactive ? "prediction_inactive." : "prediction.";
+  params_ = plan.addBuffer(name + "params", sizeof(PredictionParams), gpu::MemoryUse::Upload);
+  depth_bits_ = plan.addBuffer(name + "depth_bits", pixels0 * 4, gpu::MemoryUse::DeviceLocal);
+  ids_ = plan.addBuffer(name + "ids", pixels0 * 4, gpu::MemoryUse::DeviceLocal);
   int64_splat_ = context.features().int64_atomics;
-  if (int64_splat_) splat64_ = plan.addBuffer("prediction.splat64", pixels0 * 8, gpu::MemoryUse::DeviceLocal);
+  if (int64_splat_) splat64_ = plan.addBuffer(name + "splat64", pixels0 * 8, gpu::MemoryUse::DeviceLocal);
   for (int l = 0; l < options_.levels; ++l) {
     cameras_.push_back(camera.atLevel(l));
     const uint64_t n = uint64_t(cameras_.back().width) * uint64_t(cameras_.back().height);
-    const std::string prefix = "prediction.l" + std::to_string(l) + ".";
+    const std::string prefix = name + "l" + std::to_string(l) + ".";
     levels_.push_back({plan.addBuffer(prefix + "vertices", n * 16, gpu::MemoryUse::DeviceLocal),
                        plan.addBuffer(prefix + "normals", n * 16, gpu::MemoryUse::DeviceLocal),
                        plan.addBuffer(prefix + "intensity", n * 4, gpu::MemoryUse::DeviceLocal)});
@@ -133,6 +138,7 @@ PredictionParams ModelPrediction::makeParams(const SE3d& T_C_W, std::uint32_t fr
   params.min_depth_m = options_.min_depth_m;
   params.max_depth_m = map_options_.max_depth_m;
   params.max_half_footprint_px = options_.max_half_footprint_px;
+  params.surfels = static_cast<std::uint32_t>(options_.surfels);
   return params;
 }
 

@@ -25,8 +25,10 @@ std::uint32_t splatKey(const Footprint& f, int x, int y, float depth_m) {
 }
 
 bool isRendered(const Surfel& surfel, const PredictionParams& params) {
-  if (framesSinceCpu(params.view, surfel.colour_times.z()) > params.time_window_frames) return false;
-  return surfel.position_confidence.w() >= params.confidence_threshold || params.view.frame < params.young_map_frames;
+  const bool active = framesSinceCpu(params.view, surfel.colour_times.z()) <= params.time_window_frames;
+  const bool stable = surfel.position_confidence.w() >= params.confidence_threshold;
+  if (params.surfels == static_cast<std::uint32_t>(PredictedSurfels::kInactive)) return !active && stable;
+  return active && (stable || params.view.frame < params.young_map_frames);
 }
 
 CameraSurfel toCamera(const Surfel& surfel, const MapView& view) {

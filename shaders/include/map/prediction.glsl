@@ -1,10 +1,15 @@
 // Surfel splatting shared by the prediction kernels (map_predict_splat.comp in its two passes and
 // map_predict_attributes.comp). Mirrored by pipeline/map/src/prediction_cpu.cpp.
 //
-// Which surfels are rendered: ACTIVE ones (updated within the time window δ_t) whose centre lies in
-// front of the camera within (min_depth_m, max_depth_m], and that are STABLE (confidence ≥ the
-// threshold) — except while the map is young (frame < young_map_frames), when every active surfel
-// is rendered, because no surfel can have reached the threshold yet and tracking needs a model.
+// Which surfels are rendered (PredictionParams.surfels): those whose centre lies in front of the
+// camera within (min_depth_m, max_depth_m] and that are
+//   kPredictActive (tracking's model): ACTIVE (updated within the time window δ_t) and STABLE
+//     (confidence ≥ the threshold) — except while the map is young (frame < young_map_frames), when
+//     every active surfel is rendered, because no surfel can have reached the threshold yet and
+//     tracking needs a model;
+//   kPredictInactive (local loop closure's "inactive model", ElasticFusion's): NOT active (last
+//     updated more than δ_t frames ago) and STABLE. The young-map rule does not apply: a young map
+//     has no inactive surfels worth closing a loop on, and unstable ones are never rendered here.
 //
 // How: each surfel is a disk of radius r_eff = max(r, one pixel's footprint at its depth) — so
 // that every rendered surfel covers at least its centre pixel. Its footprint is the pixel box
@@ -33,15 +38,23 @@ struct PredictionParams {
   float min_depth_m;           // surfel centres nearer than this are not rendered [m]
   float max_depth_m;           // nor farther than this [m]
   int max_half_footprint_px;   // footprint cap: (2·cap + 1)² pixels
-  uint pad0, pad1;
+  uint surfels;                // which surfels: kPredictActive or kPredictInactive
+  uint pad1;
 };
+
+// PredictionParams.surfels (vifusion::map::PredictedSurfels).
+const uint kPredictActive = 0u;
+const uint kPredictInactive = 1u;
 
 // "No surfel" in the splat id image (surfel indices are < 2^26).
 const uint kNoSurfel = 0xffffffffu;
 
 bool isRendered(Surfel surfel, PredictionParams params) {
-  if (framesSince(params.view, surfel.colour_times.z) > params.time_window_frames) return false;
-  return surfel.position_confidence.w >= params.confidence_threshold || params.view.frame < params.young_map_frames;
+  // ("active" is a reserved word in GLSL.)
+  const bool is_active = framesSince(params.view, surfel.colour_times.z) <= params.time_window_frames;
+  const bool is_stable = surfel.position_confidence.w >= params.confidence_threshold;
+  if (params.surfels == kPredictInactive) return !is_active && is_stable;
+  return is_active && (is_stable || params.view.frame < params.young_map_frames);
 }
 
 // A surfel in camera coordinates, ready to splat.

@@ -2,6 +2,10 @@
 // Model prediction on the GPU (DESIGN.md §4.4): the active, stable surfels of the map splatted as
 // disks into the camera at pose T_C_W, giving the camera-frame vertex, normal and intensity maps
 // the tracking terms align the next frame against, at every pyramid level.
+// With PredictionOptions::surfels = PredictedSurfels::kInactive the same rendering shows the
+// inactive stable surfels instead (ElasticFusion's inactive model, which local loop closure
+// registers the active one against): a second instance with its own buffers, named
+// "prediction_inactive.*" in the capacity plan.
 //
 // Per frame, recorded once per surfel-array parity:
 //   clear → map_predict_depth (atomicMin of depth bits) → map_predict_id (atomicMin of the index
@@ -31,7 +35,10 @@ namespace vifusion::map {
 
 struct PredictionOptions {
   int levels = 3;  ///< pyramid levels of the model maps, as the preprocessing pyramids
-  /// Before this frame every active surfel is rendered, stable or not: a surfel gains at most 1
+  /// Which surfels this instance renders (prediction.glsl states the rules). Fixed at construction:
+  /// it names the instance's buffers, so an active and an inactive prediction share one plan.
+  PredictedSurfels surfels = PredictedSurfels::kActive;
+  /// Before this frame every active surfel is rendered, stable or not (kActive only): a surfel gains at most 1
   /// confidence per frame, so none can be stable before frame confidence_threshold and tracking
   /// would have no model. 20 frames (≈ 0.7 s at 30 Hz) leaves time for the first surfels to
   /// reach the default threshold of 10 even when seen off-centre (weight ≈ 0.5 per frame).
@@ -73,6 +80,8 @@ class ModelPrediction {
   /// ending with a compute barrier that makes the model maps visible to later kernels and copies.
   void record(gpu::CommandRecorder& recorder, int parity) const;
 
+  const PredictionOptions& options() const { return options_; }
+  PredictedSurfels surfels() const { return options_.surfels; }
   int levels() const { return options_.levels; }
   const PinholeCamera& camera(int level) const { return cameras_.at(static_cast<std::size_t>(level)); }
   const ModelLevelBuffers& level(int level) const { return levels_.at(static_cast<std::size_t>(level)); }

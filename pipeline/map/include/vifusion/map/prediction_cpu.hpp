@@ -33,6 +33,13 @@ static_assert(offsetof(MapView, inv_fx) == 64);
 static_assert(offsetof(MapView, width) == 72);
 static_assert(offsetof(MapView, frame) == 80);
 
+/// Which surfels a prediction renders (PredictionParams::surfels; kPredictActive and kPredictInactive in
+/// prediction.glsl, which states the rules).
+enum class PredictedSurfels : std::uint32_t {
+  kActive = 0,  ///< active (updated within δ_t) and stable, every active one while the map is young: tracking's model
+  kInactive = 1,  ///< inactive (not updated within δ_t) and stable: local loop closure's inactive model
+};
+
 /// PredictionParams in prediction.glsl.
 struct PredictionParams {
   MapView view;
@@ -42,11 +49,13 @@ struct PredictionParams {
   float min_depth_m = 0;                ///< nearer surfel centres are not rendered [m]
   float max_depth_m = 0;                ///< nor farther ones [m]
   std::int32_t max_half_footprint_px = 0;  ///< footprint cap: (2·cap + 1)² pixels
-  std::uint32_t pad[2] = {};
+  std::uint32_t surfels = static_cast<std::uint32_t>(PredictedSurfels::kActive);  ///< a PredictedSurfels value
+  std::uint32_t pad = 0;
 };
 static_assert(sizeof(PredictionParams) == 128);
 static_assert(offsetof(PredictionParams, confidence_threshold) == 96);
 static_assert(offsetof(PredictionParams, max_half_footprint_px) == 116);
+static_assert(offsetof(PredictionParams, surfels) == 120);
 
 /// "No surfel" in the splat id image (kNoSurfel in prediction.glsl).
 inline constexpr std::uint32_t kNoSurfel = 0xffffffffu;

@@ -20,8 +20,10 @@
 #include "vifusion/loop/deformation_graph.hpp"
 #include "vifusion/map/maintenance_cpu.hpp"
 #include "vifusion/map/map_buffers.hpp"
+#include "vifusion/map/map_export.hpp"
 #include "vifusion/map/map_sampling.hpp"
 #include "vifusion/map/model_prediction.hpp"
+#include "vifusion/map/surfel_reactivation.hpp"
 #include "vifusion/test/counting_allocations.hpp"
 #include "vifusion/test/expect_error.hpp"
 
@@ -141,7 +143,9 @@ class SamplingRig {
         inactive_(context, plan_, map_, kCamera, predictionOptions(map::PredictedSurfels::kInactive)),
         sampling_(context, plan_, map_, options),
         active_gather_(context, plan_, map_, active_, options),
-        inactive_gather_(context, plan_, map_, inactive_, options) {
+        inactive_gather_(context, plan_, map_, inactive_, options),
+        reactivation_(context, plan_, map_, inactive_),
+        export_(context, plan_, map_) {
     const std::uint64_t surfel_bytes = std::uint64_t{capacity} * sizeof(Surfel);
     const std::uint64_t id_bytes = std::uint64_t(kCamera.width) * std::uint64_t(kCamera.height) * 4;
     upload_ = plan_.addBuffer("test.surfels", surfel_bytes, gpu::MemoryUse::Upload);
@@ -153,6 +157,8 @@ class SamplingRig {
     sampling_.build(*arena_);
     active_gather_.build(*arena_);
     inactive_gather_.build(*arena_);
+    reactivation_.build(*arena_);
+    export_.build(*arena_);
     map_.reset(*arena_);
     for (int parity = 0; parity < 2; ++parity) {
       uploads_[parity] = gpu::CommandSequence::create(context, "upload " + std::to_string(parity));
@@ -203,6 +209,12 @@ class SamplingRig {
     return set == map::PredictedSurfels::kActive ? active_ : inactive_;
   }
   const gpu::CapacityPlan& plan() const { return plan_; }
+  map::SurfelReactivation& reactivation() { return reactivation_; }
+  std::vector<Surfel> surfels() {
+    std::vector<Surfel> out;
+    export_.read(out);
+    return out;
+  }
 
  private:
   const gpu::GpuBuffer& buffer(gpu::BufferId id) const { return arena_->buffer(id); }
@@ -214,12 +226,53 @@ class SamplingRig {
   map::MapSampling sampling_;
   map::PredictionGather active_gather_;
   map::PredictionGather inactive_gather_;
+  map::SurfelReactivation reactivation_;
+  map::MapExport export_;
   gpu::BufferId upload_, active_ids_, inactive_ids_;
   std::unique_ptr<gpu::MemoryArena> arena_;
   std::unique_ptr<gpu::CommandSequence> uploads_[2], predictions_[2];
 };
 
 class MapSamplingTest : public test::GpuTest {};
+
+// Reactivation after a closure: exactly the surfels that won a pixel of the inactive prediction get the current
+// frame as their last update (GPU against reactivateSurfelsCpu, bit for bit), and the active prediction renders
+// them from then on.
+TEST_F(MapSamplingTest, ReactivationMakesTheInactiveSurfelsInViewActive) {
+  const std::vector<Surfel> wall = wallSurfels();
+  const auto count = static_cast<std::uint32_t>(wall.size());
+  SamplingRig rig(context(), count, smallOptions());
+  rig.writeArray(0, wall);
+  rig.setMap(0, count);
+  rig.predict();
+  std::vector<Surfel> expected = wall;
+  map::reactivateSurfelsCpu(expected, rig.ids(map::PredictedSurfels::kInactive), kFrame);
+  int reactivated = 0;
+  for (std::size_t i = 0; i < wall.size(); ++i) {
+    reactivated += expected[i].colour_times.z() != wall[i].colour_times.z() ? 1 : 0;
+  }
+  ASSERT_GT(reactivated, 100) << "the inactive stable blocks are in view";
+  rig.reactivation().apply(kFrame);
+  const std::vector<Surfel> gpu = rig.surfels();
+  ASSERT_EQ(gpu.size(), expected.size());
+  EXPECT_EQ(0, std::memcmp(gpu.data(), expected.data(), gpu.size() * sizeof(Surfel)));
+
+  // The next prediction: the reactivated surfels are active now, and the inactive model is empty.
+  rig.writeArray(0, gpu);
+  rig.predict();
+  int inactive_pixels = 0, reactivated_pixels = 0;
+  const ImageView<const std::uint32_t> active_ids = rig.ids(map::PredictedSurfels::kActive);
+  const ImageView<const std::uint32_t> inactive_ids = rig.ids(map::PredictedSurfels::kInactive);
+  for (int y = 0; y < kCamera.height; ++y) {
+    for (int x = 0; x < kCamera.width; ++x) {
+      inactive_pixels += inactive_ids(x, y) != map::kNoSurfel ? 1 : 0;
+      const std::uint32_t id = active_ids(x, y);
+      if (id != map::kNoSurfel && wall[id].colour_times.z() != gpu[id].colour_times.z()) ++reactivated_pixels;
+    }
+  }
+  EXPECT_EQ(inactive_pixels, 0);
+  EXPECT_GT(reactivated_pixels, 100);
+}
 
 TEST_F(MapSamplingTest, NodeSamplesMatchTheCpuReferenceInCreationOrderFromEitherArray) {
   const std::vector<Surfel> grown = grownMap(120, 11);

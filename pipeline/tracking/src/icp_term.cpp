@@ -5,11 +5,10 @@
 namespace vifusion::tracking {
 
 IcpTerm::IcpTerm(gpu::GpuContext& context, gpu::CapacityPlan& plan, int levels, const IcpOptions& options,
-                 const LevelReductionOptions& reduction)
+                 const LevelReductionOptions& reduction, const std::string& name)
     : options_((options.validate(), options)),
       reduction_(context, plan, levels,
-                 {"icp_reduce", shaders::icp_reduce_subgroup, shaders::icp_reduce_shared, 4, sizeof(IcpParams)},
-                 reduction) {}
+                 {name, shaders::icp_reduce_subgroup, shaders::icp_reduce_shared, 4, sizeof(IcpParams)}, reduction) {}
 
 void IcpTerm::build(const gpu::MemoryArena& arena, std::span<const IcpLevelInputs> inputs) {
   std::vector<std::vector<gpu::BufferId>> buffers;

@@ -3,6 +3,8 @@
 // and reduces in a single pass (shaders/icp_reduce.comp). Record each level once; before each
 // Gauss-Newton iteration write the pose with setPose(), submit, then read result().
 
+#include <string>
+
 #include "vifusion/core/pinhole_camera.hpp"
 #include "vifusion/core/se3.hpp"
 #include "vifusion/reduction/level_reduction.hpp"
@@ -18,8 +20,10 @@ struct IcpLevelInputs {
 
 class IcpTerm {
  public:
+  /// `name` prefixes the term's buffers in the plan: one plan may hold several instances (the tracker's,
+  /// loop closure's registration) under different names.
   IcpTerm(gpu::GpuContext& context, gpu::CapacityPlan& plan, int levels, const IcpOptions& options = {},
-          const LevelReductionOptions& reduction = {});
+          const LevelReductionOptions& reduction = {}, const std::string& name = "icp_reduce");
 
   void build(const gpu::MemoryArena& arena, std::span<const IcpLevelInputs> inputs);
   void record(gpu::CommandRecorder& recorder, int level) const { reduction_.record(recorder, level); }

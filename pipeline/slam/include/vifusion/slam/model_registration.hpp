@@ -1,0 +1,126 @@
+#pragma once
+// Model-to-model registration of local loop closure (ElasticFusion's "active vs inactive", DESIGN.md §4.5):
+// the map's ACTIVE surfels (seen within the time window) and its INACTIVE ones (the older map the camera has
+// come back to) are each rendered at the current camera pose; where the camera drifted, the two renderings of
+// the same surfaces are offset. This aligns the active rendering (as "current") to the inactive one (as
+// "reference") by point-to-plane ICP coarse to fine (tracking/icp_term.hpp, the tracker's kernel and noise
+// model) from the identity, and decides whether the alignment is trustworthy enough to deform the map with.
+//
+// Photometric alignment is left out: both renderings carry the surfels' colours, but an inactive surface
+// fused before the drift and an active one fused after it have different sampling and exposure histories,
+// and geometry alone is what the acceptance tests below can judge (ICP's noise model is the sensor's).
+//
+// Acceptance (RegistrationOptions; a refusal names the test that failed):
+//   overlap      inliers ≥ min_overlap_share · level-0 pixels: enough of the view is the same surfaces;
+//   residual     mean χ² per inlier (Σ w r² / inliers, w the ICP's Huber-weighted inverse variance)
+//                ≤ max_mean_chi2: the aligned models agree to the sensor's own noise;
+//   conditioning no ICP direction is unconstrained (tracking/icp_degeneracy.hpp's share test): a wall
+//                alone would let the closure slide along it;
+//   covariance   the alignment's σ (from the ICP information scaled for the pixels' correlation, as
+//                DenseTermsOptions does) within max_position_sigma_m and max_rotation_sigma_rad;
+//   correction   the correction within max_correction_m / max_correction_rad: local closure corrects drift
+//                since the surfaces went inactive, and ICP from the identity has no wider basin anyway.
+//
+// Lifecycle: construct (declares the ICP's buffers in the plan) → build(arena, level inputs) once → align()
+// when a closure is tried. No allocation in align().
+
+#include <array>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "vifusion/core/pinhole_camera.hpp"
+#include "vifusion/core/se3.hpp"
+#include "vifusion/gpu/capacity_plan.hpp"
+#include "vifusion/gpu/command_sequence.hpp"
+#include "vifusion/gpu/gpu_context.hpp"
+#include "vifusion/gpu/memory_arena.hpp"
+#include "vifusion/tracking/icp_term.hpp"
+
+namespace vifusion::slam {
+
+struct RegistrationOptions {
+  /// Gauss-Newton iterations per level, finest first (ElasticFusion's tracking schedule).
+  std::array<int, 3> iterations = {10, 5, 4};
+  /// A level stops early when the step is below this (translation [m] and rotation [rad]).
+  double converged_step = 1e-5;
+  /// Inliers as a share of the level-0 pixels: ElasticFusion's 35 000 of 640×480 (0.114), made
+  /// resolution-independent. In (0, 1].
+  double min_overlap_share = 0.1;
+  /// Mean χ² per inlier at the solution. With the sensor's noise model a correct alignment gives ≤ 1 (the
+  /// renderings are fused, less noisy than one frame); in (0, ∞).
+  double max_mean_chi2 = 1.0;
+  /// ICP translation directions with less than this share of the weight count as unconstrained (the
+  /// tracker's DenseTermsOptions::icp_min_constraint_share). In [0, 1/3).
+  double min_constraint_share = 0.02;
+  /// The information's scale for the pixels' correlation (DenseTermsOptions::information_scale). In (0, 1].
+  double information_scale = 0.01;
+  /// Largest σ of the correction's position [m] and rotation [rad] under that scale: a closure moves the map by
+  /// its correction, so its uncertainty must be below the surfels' own (the depth noise is ≥ 1.2 mm).
+  double max_position_sigma_m = 0.002;
+  double max_rotation_sigma_rad = 0.002;
+  /// Largest correction accepted [m], [rad] (ElasticFusion refuses a 0.3 m jump in tracking).
+  double max_correction_m = 0.3;
+  double max_correction_rad = 0.2;
+
+  /// Throws vifusion::Error naming the field out of range.
+  void validate() const;
+};
+
+/// Why a registration was refused (kAccepted when it was not).
+enum class RegistrationVerdict {
+  kAccepted,
+  kNoOverlap,
+  kDiverged,
+  kResidual,
+  kUnconstrained,
+  kCovariance,
+  kCorrection
+};
+const char* registrationVerdictName(RegistrationVerdict verdict);
+
+struct RegistrationResult {
+  /// The active rendering's camera in the inactive rendering's camera: T_ref_cur (identity when nothing moved)
+  SE3d T_inactive_active;
+  RegistrationVerdict verdict = RegistrationVerdict::kNoOverlap;
+  double inliers = 0.0;     ///< level-0 ICP inliers at the solution (refused for overlap: at the level it stopped)
+  double candidates = 0.0;  ///< level-0 active pixels offered (likewise)
+  double mean_chi2 = 0.0;   ///< Σ w r² / inliers at the solution
+  double position_sigma_m = 0.0;
+  double rotation_sigma_rad = 0.0;
+  int iterations = 0;
+  bool accepted() const { return verdict == RegistrationVerdict::kAccepted; }
+};
+
+/// Both renderings at one pyramid level (camera frame of the current pose).
+struct RegistrationLevel {
+  PinholeCamera camera;
+  gpu::BufferId active_vertices, active_normals;      ///< "current"
+  gpu::BufferId inactive_vertices, inactive_normals;  ///< "reference"
+};
+
+class ModelRegistration {
+ public:
+  /// Declares the ICP's buffers for `levels` levels (1..3). Throws vifusion::Error on bad options.
+  ModelRegistration(gpu::GpuContext& context, gpu::CapacityPlan& plan, int levels, const tracking::IcpOptions& icp,
+                    const RegistrationOptions& options = {});
+  ~ModelRegistration();
+
+  /// Creates the kernels and records one sequence per level over `levels` (finest first).
+  void build(const gpu::MemoryArena& arena, std::span<const RegistrationLevel> levels);
+
+  /// Aligns the active rendering to the inactive one from the identity and judges the result.
+  RegistrationResult align();
+
+  const RegistrationOptions& options() const { return options_; }
+
+ private:
+  gpu::GpuContext& context_;
+  RegistrationOptions options_;
+  int levels_ = 0;
+  std::vector<PinholeCamera> cameras_;
+  std::unique_ptr<tracking::IcpTerm> icp_;
+  std::vector<std::unique_ptr<gpu::CommandSequence>> sequences_;
+};
+
+}  // namespace vifusion::slam

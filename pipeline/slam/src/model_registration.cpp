@@ -1,0 +1,158 @@
+#include "vifusion/slam/model_registration.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <string>
+
+#include "vifusion/core/error.hpp"
+#include "vifusion/tracking/icp_degeneracy.hpp"
+
+namespace vifusion::slam {
+namespace {
+
+/// Below this many inliers a level's 6×6 system is not solved (as DenseTracker).
+constexpr double kMinSystemInliers = 6.0;
+
+std::string field(const char* name) { return std::string("registration option '") + name + "'"; }
+
+}  // namespace
+
+void RegistrationOptions::validate() const {
+  for (const int n : iterations) {
+    if (n < 0 || n > 100) throw Error(field("iterations") + " must be 0..100 per level");
+  }
+  if (!(converged_step >= 0.0)) throw Error(field("converged_step") + " must be ≥ 0");
+  if (!(min_overlap_share > 0.0 && min_overlap_share <= 1.0))
+    throw Error(field("min_overlap_share") + " must be in (0, 1]");
+  if (!(max_mean_chi2 > 0.0)) throw Error(field("max_mean_chi2") + " must be > 0");
+  if (!(min_constraint_share >= 0.0 && min_constraint_share < 1.0 / 3.0)) {
+    throw Error(field("min_constraint_share") + " must be in [0, 1/3)");
+  }
+  if (!(information_scale > 0.0 && information_scale <= 1.0))
+    throw Error(field("information_scale") + " must be in (0, 1]");
+  if (!(max_position_sigma_m > 0.0)) throw Error(field("max_position_sigma_m") + " must be > 0");
+  if (!(max_rotation_sigma_rad > 0.0)) throw Error(field("max_rotation_sigma_rad") + " must be > 0");
+  if (!(max_correction_m > 0.0)) throw Error(field("max_correction_m") + " must be > 0");
+  if (!(max_correction_rad > 0.0)) throw Error(field("max_correction_rad") + " must be > 0");
+}
+
+const char* registrationVerdictName(RegistrationVerdict verdict) {
+  switch (verdict) {
+    case RegistrationVerdict::kAccepted:
+      return "accepted";
+    case RegistrationVerdict::kNoOverlap:
+      return "overlap";
+    case RegistrationVerdict::kDiverged:
+      return "diverged";
+    case RegistrationVerdict::kResidual:
+      return "residual";
+    case RegistrationVerdict::kUnconstrained:
+      return "unconstrained";
+    case RegistrationVerdict::kCovariance:
+      return "covariance";
+    case RegistrationVerdict::kCorrection:
+      return "correction";
+  }
+  return "unknown";
+}
+
+ModelRegistration::ModelRegistration(gpu::GpuContext& context, gpu::CapacityPlan& plan, int levels,
+                                     const tracking::IcpOptions& icp, const RegistrationOptions& options)
+    : context_(context), options_(options), levels_(levels) {
+  options_.validate();
+  if (levels < 1 || levels > 3) throw Error("model registration: levels must be 1..3");
+  icp_ = std::make_unique<tracking::IcpTerm>(context, plan, levels, icp, LevelReductionOptions{},
+                                             "registration.icp_reduce");
+}
+
+ModelRegistration::~ModelRegistration() = default;
+
+void ModelRegistration::build(const gpu::MemoryArena& arena, std::span<const RegistrationLevel> levels) {
+  if (static_cast<int>(levels.size()) != levels_) throw Error("model registration: wrong number of levels");
+  std::vector<tracking::IcpLevelInputs> inputs;
+  for (const RegistrationLevel& level : levels) {
+    cameras_.push_back(level.camera);
+    inputs.push_back({level.active_vertices, level.active_normals, level.inactive_vertices, level.inactive_normals});
+  }
+  icp_->build(arena, inputs);
+  for (int l = 0; l < levels_; ++l) {
+    sequences_.push_back(gpu::CommandSequence::create(context_, "registration.level" + std::to_string(l)));
+    sequences_.back()->record([&](gpu::CommandRecorder& recorder) { icp_->record(recorder, l); });
+  }
+}
+
+RegistrationResult ModelRegistration::align() {
+  RegistrationResult result;
+  SE3d T = SE3d();
+  NormalEquations6 last;
+  for (int l = levels_ - 1; l >= 0; --l) {
+    for (int i = 0; i < options_.iterations[static_cast<std::size_t>(l)]; ++i) {
+      icp_->setPose(l, T, cameras_[static_cast<std::size_t>(l)]);
+      sequences_[static_cast<std::size_t>(l)]->run();
+      NormalEquations6 system = icp_->result(l);
+      // Most frames have no inactive map in view: the first coarse evaluation says so at a sixteenth of the
+      // level-0 cost (min_overlap_share of the level's pixels, as at level 0).
+      const PinholeCamera& camera = cameras_[static_cast<std::size_t>(l)];
+      const bool first = l == levels_ - 1 && i == 0;
+      if (system.inliers < kMinSystemInliers ||
+          (first && system.inliers < options_.min_overlap_share * camera.width * camera.height)) {
+        result.inliers = system.inliers;  // at this level: what the report shows of a view without overlap
+        result.candidates = system.candidates;
+        result.verdict = RegistrationVerdict::kNoOverlap;
+        return result;
+      }
+      if (l == 0) last = system;
+      // Directions the surfaces leave free are not moved: the conditioning test below refuses such a view.
+      NormalEquations6 constrained = system;
+      tracking::removeUnconstrainedIcpDirections(system, options_.min_constraint_share, constrained);
+      const Eigen::LDLT<Matrix6d> ldlt(constrained.H);
+      const Vector6d delta = ldlt.solve(-constrained.b);
+      if (ldlt.info() != Eigen::Success || !delta.allFinite()) {
+        result.verdict = RegistrationVerdict::kDiverged;
+        return result;
+      }
+      T = SE3d::exp(delta) * T;
+      ++result.iterations;
+      if (delta.head<3>().norm() < options_.converged_step && delta.tail<3>().norm() < options_.converged_step) break;
+    }
+  }
+  // The statistics at the final pose.
+  icp_->setPose(0, T, cameras_[0]);
+  sequences_[0]->run();
+  last = icp_->result(0);
+  result.T_inactive_active = T;
+  result.inliers = last.inliers;
+  result.candidates = last.candidates;
+  const double pixels = static_cast<double>(cameras_[0].width) * static_cast<double>(cameras_[0].height);
+  if (last.inliers < options_.min_overlap_share * pixels) {
+    result.verdict = RegistrationVerdict::kNoOverlap;
+    return result;
+  }
+  result.mean_chi2 = last.weighted_squared_residual / last.inliers;
+  NormalEquations6 projected = last;
+  const int free_directions =
+      tracking::removeUnconstrainedIcpDirections(last, options_.min_constraint_share, projected);
+  const Matrix6d covariance = (options_.information_scale * last.H).inverse();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> position(covariance.topLeftCorner<3, 3>());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rotation(covariance.bottomRightCorner<3, 3>());
+  result.position_sigma_m = std::sqrt(std::max(0.0, position.eigenvalues().maxCoeff()));
+  result.rotation_sigma_rad = std::sqrt(std::max(0.0, rotation.eigenvalues().maxCoeff()));
+  const Vector6d correction = T.log();
+  if (!(result.mean_chi2 <= options_.max_mean_chi2)) {
+    result.verdict = RegistrationVerdict::kResidual;
+  } else if (free_directions > 0) {
+    result.verdict = RegistrationVerdict::kUnconstrained;
+  } else if (!(result.position_sigma_m <= options_.max_position_sigma_m) ||
+             !(result.rotation_sigma_rad <= options_.max_rotation_sigma_rad)) {
+    result.verdict = RegistrationVerdict::kCovariance;
+  } else if (!(correction.head<3>().norm() <= options_.max_correction_m) ||
+             !(correction.tail<3>().norm() <= options_.max_correction_rad)) {
+    result.verdict = RegistrationVerdict::kCorrection;
+  } else {
+    result.verdict = RegistrationVerdict::kAccepted;
+  }
+  return result;
+}
+
+}  // namespace vifusion::slam

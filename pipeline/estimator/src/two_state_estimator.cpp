@@ -292,4 +292,25 @@ Vector18d TwoStateEstimator::covarianceDiagonal() const {
   return covariance.diagonal().cwiseProduct(Vector18d::Ones() - held);
 }
 
+void TwoStateEstimator::moveWithMap(const SE3d& T_Wnew_Wold) {
+  const Eigen::Matrix3d R = T_Wnew_Wold.rotationMatrix();
+  const auto move = [&](NavState& x) {
+    const Eigen::Matrix3d R_I = x.q_I_W.toRotationMatrix() * R * x.q_I_W.toRotationMatrix().transpose();
+    x.r_W_C = T_Wnew_Wold * x.r_W_C;
+    x.q_W_C = (T_Wnew_Wold.quaternion() * x.q_W_C).normalized();
+    x.v_I_S = R_I * x.v_I_S;
+    return R_I;
+  };
+  const Eigen::Matrix3d R_I = move(prior_x_);
+  move(x0_);
+  move(x1_);
+  Matrix18d J = Matrix18d::Identity();
+  J.block<3, 3>(kIdxR, kIdxR) = R;
+  J.block<3, 3>(kIdxAlpha, kIdxAlpha) = R;
+  J.block<3, 3>(kIdxV, kIdxV) = R_I;
+  prior_H_ = J * prior_H_ * J.transpose();
+  prior_H_ = 0.5 * (prior_H_ + prior_H_.transpose()).eval();
+  prior_b_ = J * prior_b_;
+}
+
 }  // namespace vifusion::estimator

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "simulated_rig.hpp"
@@ -26,7 +27,7 @@ struct FrameErrors {
   std::int64_t t_ns = 0;
   double position_m = 0.0;
   double rotation_rad = 0.0;
-  double velocity_mps = 0.0;     ///< compared in W: each side's own q_I_W takes v_I back to W
+  double velocity_mps = 0.0;  ///< compared in W: each side's own q_I_W takes v_I back to W
   double gyro_bias_rad_s = 0.0;
   double accel_bias_mps2 = 0.0;
   double gravity_deg = 0.0;
@@ -50,8 +51,9 @@ FrameErrors errorsOf(const NavState& est, const NavState& truth) {
 }
 
 /// Runs the estimator over the rig's frames; `vision_at(t_s)` says whether vision is healthy then.
-std::vector<FrameErrors> run(const SimulatedRig& rig, const EstimatorOptions& options, SimulatedVision& vision,
-                             const std::function<bool(double)>& vision_at = [](double) { return true; }) {
+std::vector<FrameErrors> run(
+    const SimulatedRig& rig, const EstimatorOptions& options, SimulatedVision& vision,
+    const std::function<bool(double)>& vision_at = [](double) { return true; }) {
   TwoStateEstimator estimator(options, imu::ImuOptions{}, rig.T_S_C);
   estimator.initialise(rig.frame_times_ns.front(), rig.initialState());
   std::vector<FrameErrors> errors;
@@ -61,8 +63,8 @@ std::vector<FrameErrors> run(const SimulatedRig& rig, const EstimatorOptions& op
     vision.observe(SE3d(truth.q_W_C, truth.r_W_C));
     vision.setHealthy(vision_at(nsToSeconds(t_ns - rig.frame_times_ns.front())));
     FrameSolve solve;
-    const auto issue = estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision,
-                                       solve);
+    const auto issue =
+        estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve);
     if (issue) ADD_FAILURE() << issue->message();
     FrameErrors e = errorsOf(estimator.state(), truth);
     e.t_ns = t_ns - rig.frame_times_ns.front();
@@ -104,9 +106,10 @@ TEST(TwoStateEstimator, FindsVelocityBiasesAndGravityOnTheFastPreset) {
   const Summary gravity = summarise(errors, 5.0, &FrameErrors::gravity_deg);
   const Summary position = summarise(errors, 0.0, &FrameErrors::position_m);
   const Summary chi2 = summarise(errors, 1.0, &FrameErrors::imu_chi2);
-  std::printf("  velocity RMS after 5 s %.4f m/s | b_g max after 15 s %.2e rad/s | b_a max after 15 s %.4f m/s² |"
-              " gravity max after 5 s %.3f° | position RMS %.2f mm | IMU χ² RMS %.1f\n",
-              velocity.rms, gyro.max, accel.max, gravity.max, position.rms * 1e3, chi2.rms);
+  std::printf(
+      "  velocity RMS after 5 s %.4f m/s | b_g max after 15 s %.2e rad/s | b_a max after 15 s %.4f m/s² |"
+      " gravity max after 5 s %.3f° | position RMS %.2f mm | IMU χ² RMS %.1f\n",
+      velocity.rms, gyro.max, accel.max, gravity.max, position.rms * 1e3, chi2.rms);
   EXPECT_EQ(errors.size(), rig.frame_times_ns.size() - 1);
   for (const FrameErrors& e : errors) ASSERT_TRUE(e.vision_used);
   EXPECT_LT(velocity.rms, 0.02);
@@ -124,7 +127,8 @@ TEST(TwoStateEstimator, ImuCarriesTheStateThroughAVisionOutage) {
   const SimulatedRig rig("fast", 21);
   SimulatedVision vision(0.002, 0.1 * std::numbers::pi / 180.0, 22);
   const auto outage = [](double t_s) { return t_s >= 10.0 && t_s < 11.0; };
-  const std::vector<FrameErrors> errors = run(rig, EstimatorOptions{}, vision, [&](double t_s) { return !outage(t_s); });
+  const std::vector<FrameErrors> errors =
+      run(rig, EstimatorOptions{}, vision, [&](double t_s) { return !outage(t_s); });
   double worst_in_outage_m = 0.0, worst_after_m = 0.0;
   int outage_frames = 0;
   for (const FrameErrors& e : errors) {
@@ -146,8 +150,8 @@ TEST(TwoStateEstimator, ImuCarriesTheStateThroughAVisionOutage) {
 
 TEST(TwoStateEstimator, RefusesADenseSolutionThatContradictsTheImu) {
   // The white wall's failure: vision gone from 6 s to 10 s (dead reckoning, position σ grows to decimetres),
-  // then from 10 s to 10.2 s the "dense terms" converge 2 m off (the wrong basin white_wall showed: 1.8–2.1 m): each of those frames
-  // must fail the gate and the IMU carries them; from 10.2 s vision is right again and its correction of
+  // then from 10 s to 10.2 s the "dense terms" converge 2 m off (the wrong basin white_wall showed: 1.8–2.1 m): each of
+  // those frames must fail the gate and the IMU carries them; from 10.2 s vision is right again and its correction of
   // the drift is accepted. At 3 s, while tracking, the dense terms are 5 cm off for 0.1 s: as inconsistent
   // by χ², but below the gate's minimum step (an over-confident estimator must still accept corrections
   // of that size), so used. Consistent frames stay far below the gate.
@@ -172,7 +176,8 @@ TEST(TwoStateEstimator, RefusesADenseSolutionThatContradictsTheImu) {
     vision.observe(wrong ? T_wrong_true * T_W_C_true : slightly_off ? T_slightly_off_true * T_W_C_true : T_W_C_true);
     vision.setHealthy(!outage);
     FrameSolve solve;
-    ASSERT_FALSE(estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
+    ASSERT_FALSE(
+        estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
     EXPECT_EQ(solve.vision_rejected, wrong) << "t = " << t_s << " s, vision χ² " << solve.vision_chi2;
     EXPECT_EQ(solve.vision_used, !wrong && !outage) << "t = " << t_s << " s";
     const double error_m = (estimator.state().r_W_C - truth.r_W_C).norm();
@@ -187,13 +192,14 @@ TEST(TwoStateEstimator, RefusesADenseSolutionThatContradictsTheImu) {
     }
     error_after_m = error_m;
   }
-  std::printf("  %d frames refused (dead-reckoning drift %.0f mm, %.1f mm 1 s after vision is right again);"
-              " vision χ² of consistent frames at most %.1f, of the 5 cm pull %.0f (gate %.0f)\n",
-              refused, drift_m * 1e3, error_after_m * 1e3, worst_consistent_chi2, worst_small_pull_chi2,
-              options.vision_gate_chi2);
+  std::printf(
+      "  %d frames refused (dead-reckoning drift %.0f mm, %.1f mm 1 s after vision is right again);"
+      " vision χ² of consistent frames at most %.1f, of the 5 cm pull %.0f (gate %.0f)\n",
+      refused, drift_m * 1e3, error_after_m * 1e3, worst_consistent_chi2, worst_small_pull_chi2,
+      options.vision_gate_chi2);
   EXPECT_GE(refused, 6);
-  EXPECT_LT(drift_m, 0.5);          // the refused frames did not drag the state towards the wrong basin
-  EXPECT_LT(error_after_m, 0.01);   // the drift correction itself was accepted
+  EXPECT_LT(drift_m, 0.5);         // the refused frames did not drag the state towards the wrong basin
+  EXPECT_LT(error_after_m, 0.01);  // the drift correction itself was accepted
   EXPECT_LT(worst_consistent_chi2, 0.5 * options.vision_gate_chi2);
   EXPECT_GT(worst_small_pull_chi2, options.vision_gate_chi2);  // χ² alone would have refused it
 }
@@ -215,7 +221,8 @@ std::pair<double, int> trackWithOvershootingTerms(const EstimatorOptions& option
     vision.observe(SE3d(truth.q_W_C, truth.r_W_C));
     vision.setOvershoot(t_s >= 3.0 && t_s < 3.3 ? 30.0 : 1.0);
     FrameSolve solve;
-    EXPECT_FALSE(estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
+    EXPECT_FALSE(
+        estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
     backtracks += solve.backtracks;
     if (t_s >= 3.0) worst_m = std::max(worst_m, (estimator.state().r_W_C - truth.r_W_C).norm());
   }
@@ -258,7 +265,8 @@ TEST(TwoStateEstimator, DeadReckoningUncertaintyGrowsAsTheAccelerometerNoiseDict
     vision.observe(SE3d(truth.q_W_C, truth.r_W_C));
     vision.setHealthy(t_s < kOutageStart_s);
     FrameSolve solve;
-    ASSERT_FALSE(estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
+    ASSERT_FALSE(
+        estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
     sigma_end_m = std::sqrt(estimator.covarianceDiagonal().segment<3>(kIdxR).maxCoeff());
     error_end_m = (estimator.state().r_W_C - truth.r_W_C).norm();
   }
@@ -284,7 +292,8 @@ TEST(TwoStateEstimator, GyroModeEstimatesTheGyroBiasAndHoldsTheAccelerometerStat
     const NavState truth = rig.trueState(t_ns);
     vision.observe(SE3d(truth.q_W_C, truth.r_W_C));
     FrameSolve solve;
-    ASSERT_FALSE(estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
+    ASSERT_FALSE(
+        estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
     if (nsToSeconds(t_ns - rig.frame_times_ns.front()) >= 15.0) {
       worst_gyro_after_15s = std::max(worst_gyro_after_15s, (estimator.state().b_g - truth.b_g).norm());
     }
@@ -312,7 +321,8 @@ TEST(TwoStateEstimator, NeverEstimatesTheGravityGauge) {
     const NavState truth = rig.trueState(t_ns);
     vision.observe(SE3d(truth.q_W_C, truth.r_W_C));
     FrameSolve solve;
-    ASSERT_FALSE(estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
+    ASSERT_FALSE(
+        estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
   }
   EXPECT_EQ(estimator.priorInformation().row(kIdxG + 2).norm(), 0.0);
   const Vector18d variance = estimator.covarianceDiagonal();
@@ -341,6 +351,74 @@ TEST(TwoStateEstimator, ReportsBrokenImuDataAndKeepsItsState) {
   EXPECT_EQ(estimator.t_ns(), rig.frame_times_ns.front());
   EXPECT_EQ(estimator.state().r_W_C, before.r_W_C);
   EXPECT_EQ(vision.evaluations(), 0);
+}
+
+/// A state moved as a loop closure's rigid correction moves it (TwoStateEstimator::moveWithMap's rule).
+NavState movedWithMap(NavState x, const SE3d& T_Wnew_Wold) {
+  const Eigen::Matrix3d R_I =
+      x.q_I_W.toRotationMatrix() * T_Wnew_Wold.rotationMatrix() * x.q_I_W.toRotationMatrix().transpose();
+  x.r_W_C = T_Wnew_Wold * x.r_W_C;
+  x.q_W_C = T_Wnew_Wold.quaternion() * x.q_W_C;
+  x.v_I_S = R_I * x.v_I_S;
+  return x;
+}
+
+/// The prior's energy of state y: δᵀH*δ + 2b*ᵀδ, δ = y ⊟ state().
+double priorEnergy(const TwoStateEstimator& estimator, const NavState& y) {
+  const Vector18d delta = boxMinus(y, estimator.state());
+  return delta.dot(estimator.priorInformation() * delta) + 2.0 * estimator.priorGradient().dot(delta);
+}
+
+// A loop closure turns the map about gravity and shifts it: the state moves with it, keeps its velocity
+// relative to the IMU's body, and the marginalisation prior says exactly what it said before about every
+// state moved the same way.
+TEST(TwoStateEstimator, MovesWithTheMapAndCarriesItsPrior) {
+  const SimulatedRig rig("fast", 21);
+  SimulatedVision vision(0.002, 0.1 * std::numbers::pi / 180.0, 22);
+  TwoStateEstimator estimator(EstimatorOptions{}, imu::ImuOptions{}, rig.T_S_C);
+  estimator.initialise(rig.frame_times_ns.front(), rig.initialState());
+  for (std::size_t k = 1; k < 60; ++k) {  // two seconds: a prior with correlations and a moving body
+    const std::int64_t t_ns = rig.frame_times_ns[k];
+    const NavState truth = rig.trueState(t_ns);
+    vision.observe(SE3d(truth.q_W_C, truth.r_W_C));
+    FrameSolve solve;
+    ASSERT_FALSE(
+        estimator.track(t_ns, imu::bracketingSamples(rig.imu.samples, estimator.t_ns(), t_ns), &vision, solve));
+  }
+  const NavState before = estimator.state();
+  ASSERT_GT(before.v_I_S.norm(), 0.1);
+  std::vector<NavState> probes;
+  std::mt19937 random(5);
+  std::normal_distribution<double> normal(0.0, 0.05);
+  for (int i = 0; i < 5; ++i) {
+    Vector18d delta;
+    for (int d = 0; d < kStateDim; ++d) delta[d] = normal(random);
+    // Same gravity as the state: a state with another q_I_W turns its velocity by its own R_I, which the
+    // prior's transport (one J at the state's q_I_W) matches to first order only.
+    delta.segment<3>(kIdxG).setZero();
+    probes.push_back(boxPlus(before, delta));
+  }
+  std::vector<double> energies;
+  for (const NavState& y : probes) energies.push_back(priorEnergy(estimator, y));
+
+  const Eigen::Vector3d up_W = -gravityInW(before);
+  const SE3d T_Wnew_Wold(Eigen::Quaterniond(Eigen::AngleAxisd(0.05, up_W)), Eigen::Vector3d(0.04, -0.02, 0.03));
+  estimator.moveWithMap(T_Wnew_Wold);
+  const NavState after = estimator.state();
+  EXPECT_LT((after.r_W_C - T_Wnew_Wold * before.r_W_C).norm(), 1e-12);
+  EXPECT_LT(logSO3(after.q_W_C * (T_Wnew_Wold.quaternion() * before.q_W_C).conjugate()).norm(), 1e-12);
+  EXPECT_LT(logSO3(after.q_I_W * before.q_I_W.conjugate()).norm(), 1e-15) << "gravity stays";
+  // The IMU's velocity in its own body frame: v_S = R_S_I·v_I, R_I_S = R_I_W·R_W_C·R_C_S.
+  const auto bodyVelocity = [&](const NavState& x) {
+    const Eigen::Matrix3d R_I_S =
+        x.q_I_W.toRotationMatrix() * x.q_W_C.toRotationMatrix() * rig.T_S_C.rotationMatrix().transpose();
+    return Eigen::Vector3d(R_I_S.transpose() * x.v_I_S);
+  };
+  EXPECT_LT((bodyVelocity(after) - bodyVelocity(before)).norm(), 1e-12);
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    EXPECT_NEAR(priorEnergy(estimator, movedWithMap(probes[i], T_Wnew_Wold)), energies[i], 1e-9 * energies[i])
+        << "probe " << i;
+  }
 }
 
 }  // namespace

@@ -110,6 +110,16 @@ class TwoStateEstimator {
   const Vector18d& priorGradient() const { return prior_b_; }
   const EstimatorOptions& options() const { return options_; }
 
+  /// Moves the latest state with the map when a loop closure deforms it (slam/loop_closure.hpp), by the rigid
+  /// correction T_Wnew_Wold the deformation gives the camera: position and orientation in W move with it, the
+  /// velocity (in I) turns with it, R_I = R_I_W·R·R_W_I, so the IMU's velocity relative to its body is kept,
+  /// and q_I_W, the biases and the time stay (E_imu keeps R's tilt away from gravity, so R is a turn about
+  /// it). The marginalisation prior is carried with the state: its linearisation point moves the same way,
+  /// and since δr, δα (W) and δv (I) turn with R and R_I, H* → J·H*·Jᵀ and b* → J·b* with
+  /// J = diag(R, R, R_I, I, I, I) (orthogonal), which leaves the prior's energy of every state unchanged.
+  /// Between frames only (after track() or initialise()).
+  void moveWithMap(const SE3d& T_Wnew_Wold);
+
  private:
   using Mask18 = Eigen::Matrix<double, kStateDim, 1>;  ///< 1 = estimated, 0 = held
 

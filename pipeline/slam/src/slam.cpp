@@ -48,6 +48,7 @@ void SlamOptions::validate() const {
   prediction.validate();
   carry.validate();
   fill.validate();
+  loop.validate();
 }
 
 Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options)
@@ -55,7 +56,8 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
       carry_(options.carry),
       fill_(options.fill),
       time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns),
-      T_S_C_(calibration.T_S_C) {
+      T_S_C_(calibration.T_S_C),
+      gravity_mps2_(calibration.imu.gravity_mps2) {
   options.validate();
   const PinholeCamera& camera = calibration.camera;
   tracker_ = std::make_unique<DenseTracker>(context, plan_, calibration, options.tracker);
@@ -74,6 +76,9 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   prediction_ = std::make_unique<map::ModelPrediction>(context, plan_, *map_, camera, prediction);
   exporter_ = std::make_unique<map::MapExport>(context, plan_, *map_);
   reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_);
+  if (options.loop.enabled) {
+    loop_closure_ = std::make_unique<LoopClosure>(context, plan_, *map_, *prediction_, prediction, icp, options.loop);
+  }
   if (mode_ != SlamMode::kRgbd) {
     estimator::EstimatorOptions estimator_options = options.estimator;
     estimator_options.mode =
@@ -99,6 +104,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   exporter_->build(*arena_);
   reference_fill_->build(*arena_);
   map_->reset(*arena_);
+  if (loop_closure_) loop_closure_->build(*arena_);
   for (int parity = 0; parity < 2; ++parity) {
     update_[parity] = gpu::CommandSequence::create(context, "slam.update" + std::to_string(parity));
     update_[parity]->record([&](gpu::CommandRecorder& recorder) { recordMapUpdate(recorder, parity, true); });
@@ -223,6 +229,23 @@ TrackingState Slam::carriedOrLost(FrameResult& result) const {
                                                                                     : TrackingState::kLost;
 }
 
+void Slam::closeLoop(FrameResult& result) {
+  std::optional<Eigen::Vector3d> g_W;
+  if (result.inertial) g_W = result.state.q_I_W.conjugate() * Eigen::Vector3d(0.0, 0.0, -gravity_mps2_);
+  result.closure = loop_closure_->tryClose(result.T_W_C, frame_index_, g_W);
+  if (result.closure.outcome != ClosureOutcome::kAccepted) return;
+  const SE3d& T_Wnew_Wold = result.closure.T_Wnew_Wold;
+  result.T_W_C = T_Wnew_Wold * result.T_W_C;
+  T_W_reference_ = result.T_W_C;
+  if (estimator_ && estimator_->initialised()) {
+    estimator_->moveWithMap(T_Wnew_Wold);
+    result.state = estimator_->state();
+  }
+  // The next frame's reference: the deformed map at the corrected pose.
+  prediction_->setView(T_W_reference_.inverse(), frame_index_);
+  predict_only_[map_->current()]->run();
+}
+
 void Slam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
                           FrameResult& result) {
   NavState x;
@@ -287,6 +310,7 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
     result.map_evicted = maintenance_->stats().evicted_when_full;
     result.coverage = reference_fill_->coverage().share();
   }
+  if (loop_closure_ && result.tracking == TrackingState::kTracked && frame_index_ > 0) closeLoop(result);
   const map::MapState state = map_->readState(*arena_);
   result.surfels = state.surfel_count;
   result.map_overflow = state.overflow_count;

@@ -21,13 +21,15 @@ void FrameLog::write(const std::filesystem::path& path) const {
   std::fprintf(file,
                "#t_ns,tracking,lost,pose_sigma_m,imu,icp_inliers,icp_candidates,rgb_inliers,coverage,fill,iterations,"
                "surfels,evicted,preprocess_ms,tracking_ms,"
-               "mapping_ms,imu_chi2,vision_chi2,vision_rejected\n");
+               "mapping_ms,imu_chi2,vision_chi2,vision_rejected,closure,closure_refusal,closure_error_mm,closure_"
+               "inliers,closure_ms\n");
   for (const Row& r : rows_) {
-    std::fprintf(file, "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%.3f,%.3f,%.3f,%.6g,%.6g,%d\n",
-                 static_cast<long long>(r.t_ns), static_cast<int>(r.tracking),
-                 r.tracking == slam::TrackingState::kLost ? 1 : 0, r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers,
-                 r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0, r.iterations, r.surfels, r.evicted,
-                 r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.imu_chi2, r.vision_chi2, r.vision_rejected ? 1 : 0);
+    std::fprintf(
+        file, "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%.3f,%.3f,%.3f,%.6g,%.6g,%d,%d,%d,%.3f,%.0f,%.1f\n",
+        static_cast<long long>(r.t_ns), static_cast<int>(r.tracking), r.tracking == slam::TrackingState::kLost ? 1 : 0,
+        r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers, r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0,
+        r.iterations, r.surfels, r.evicted, r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.imu_chi2, r.vision_chi2,
+        r.vision_rejected ? 1 : 0, r.closure, r.closure_refusal, r.closure_error_mm, r.closure_inliers, r.closure_ms);
   }
   if (std::fclose(file) != 0) throw Error(temporary + ": write failed");
   std::filesystem::rename(temporary, path);

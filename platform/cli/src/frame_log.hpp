@@ -20,6 +20,14 @@
 //   imu_chi2              the IMU term's χ² at the solution (inertial modes; 0 otherwise)
 //   vision_chi2           how far the dense solution pulled the state from the IMU and the prior [χ²]
 //   vision_rejected       1: the dense solution failed the estimator's gate on vision_chi2 (then lost = 1)
+//   closure               the frame's loop-closure attempt (slam/loop_closure.hpp): 0 none, 1 accepted (the map
+//                         was deformed and the trajectory with it), 2 refused
+//   closure_refusal       the refused attempt's failed test, slam::ClosureRefusal: 1 overlap, 2 diverged,
+//                         3 residual, 4 unconstrained, 5 covariance, 6 correction, 7 solve, 8 consistency; 0 else
+//   closure_error_mm      an attempt that reached the deformation: the mean constraint error after the solve [mm]
+//   closure_inliers       the registration's ICP inliers between the active and inactive renderings (at level 0,
+//                         or at the level where it found too little overlap)
+//   closure_ms            wall time of the attempt [ms]
 
 #include <filesystem>
 #include <vector>
@@ -55,6 +63,11 @@ class FrameLog {
     double imu_chi2 = 0.0;
     double vision_chi2 = 0.0;
     bool vision_rejected = false;
+    int closure = 0;
+    int closure_refusal = 0;
+    double closure_error_mm = 0.0;
+    double closure_inliers = 0.0;
+    double closure_ms = 0.0;
   };
   std::vector<Row> rows_;
 };

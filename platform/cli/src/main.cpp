@@ -35,6 +35,9 @@ int main(int argc, char** argv) {
   run->add_option("--device", run_options.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
   run->add_option("--frames", run_options.max_frames, "Stop after this many frames (0: all)")->capture_default_str();
   run->add_flag("!--no-photometric", run_options.photometric, "Track with ICP only");
+  run->add_flag("!--no-loop-closure", run_options.loop_closure, "Open-loop odometry: no map deformation");
+  run->add_flag("!--no-gravity-term", run_options.gravity_term,
+                "Deform without the gravity term E_imu (the ablation; inertial modes)");
   run->add_option("--map-capacity", run_options.map_capacity,
                   "Surfels the map holds (fixed GPU memory, about 110 bytes a surfel: report.json arena_bytes)")
       ->capture_default_str()

@@ -40,6 +40,37 @@ std::string datasetSpec(const RunOptions& options) {
 
 double mean(double sum, int count) { return count > 0 ? sum / count : 0.0; }
 
+/// Loop-closure attempts of a run: accepted, refused by test, and the time they took.
+class ClosureCounts {
+ public:
+  void add(const slam::ClosureReport& report) {
+    if (report.outcome == slam::ClosureOutcome::kNone) return;
+    ms_ = std::max(ms_, report.ms);
+    if (report.outcome == slam::ClosureOutcome::kAccepted) {
+      ++accepted_;
+    } else {
+      ++refused_[static_cast<std::size_t>(report.refusal)];
+    }
+  }
+  int accepted() const { return accepted_; }
+
+  /// {"accepted": N, "refused": {"residual": M, …}, "max_ms": T}
+  nlohmann::json json() const {
+    nlohmann::json refused = nlohmann::json::object();
+    for (int r = 1; r < slam::kClosureRefusals; ++r) {
+      if (refused_[static_cast<std::size_t>(r)] > 0) {
+        refused[slam::closureRefusalName(static_cast<slam::ClosureRefusal>(r))] = refused_[static_cast<std::size_t>(r)];
+      }
+    }
+    return {{"accepted", accepted_}, {"refused", refused}, {"max_ms", ms_}};
+  }
+
+ private:
+  int accepted_ = 0;
+  std::array<int, slam::kClosureRefusals> refused_{};
+  double ms_ = 0.0;
+};
+
 /// Frames per tracking state and each state's longest run of consecutive frames.
 class TrackingStateCounts {
  public:
@@ -77,6 +108,8 @@ int runPipeline(const RunOptions& options) {
   slam_options.mode = slam::slamModeFromName(options.mode);
   slam_options.tracker.use_photometric = options.photometric;
   slam_options.map.capacity = options.map_capacity;
+  slam_options.loop.enabled = options.loop_closure;
+  slam_options.loop.gravity_term = options.gravity_term;
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
   const auto reader = datasets::openDataset(datasetSpec(options));
@@ -99,6 +132,7 @@ int runPipeline(const RunOptions& options) {
   int imu_issues = 0;
   RgbdFrame frame;
   TrackingStateCounts states_seen;
+  ClosureCounts closures;
   double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
   uint32_t surfels = 0, map_overflow = 0;
   uint64_t map_evicted = 0;
@@ -106,6 +140,13 @@ int runPipeline(const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   while (trajectory.size() < total && reader->nextFrame(frame)) {
     const slam::FrameResult result = pipeline.process(frame, reader->imu());
+    if (result.closure.outcome == slam::ClosureOutcome::kAccepted) {
+      // The map moved: so does the trajectory that built it (frame i is the i-th pose kept).
+      for (std::size_t i = 0; i < trajectory.size(); ++i) {
+        trajectory[i].T_world_body = pipeline.deformPose(trajectory[i].T_world_body, static_cast<std::uint32_t>(i));
+      }
+    }
+    closures.add(result.closure);
     trajectory.push_back({result.t_ns, result.T_W_C});
     frame_log.add(result);
     if (result.inertial) states.push_back({result.t_ns, result.state, result.state_variance});
@@ -146,6 +187,8 @@ int runPipeline(const RunOptions& options) {
       {"frames", frames},
       {"lost_frames", states_seen.frames(slam::TrackingState::kLost)},
       {"tracking_states", states_seen.json()},
+      {"loop_closure", options.loop_closure},
+      {"closures", closures.json()},
       {"frames_with_imu_issues", imu_issues},
       {"ms_per_frame",
        {{"preprocess", mean(preprocess_ms, frames)}, {"tracking", mean(tracking_ms, frames)},

@@ -1,8 +1,9 @@
 #pragma once
-// The pipeline per frame (ElasticFusion without loop closure): every frame is tracked against the surfel
-// map's prediction at the previous pose (frame-to-model), then fused into the map, the map is cleaned and
-// compacted, and the prediction for the next frame is rendered — all in one command sequence per map
-// parity, recorded once. W is the first camera frame (DESIGN §3). Modes (the paper's ablations):
+// The pipeline per frame (ElasticFusion's): every frame is tracked against the surfel map's prediction at the
+// previous pose (frame-to-model), then fused into the map, the map is cleaned and compacted, and the prediction
+// for the next frame is rendered — all in one command sequence per map parity, recorded once. After a tracked
+// frame, local loop closure (loop_closure.hpp) may deform the map onto its inactive part and move the pose.
+// W is the first camera frame (DESIGN §3). Modes (the paper's ablations):
 //  - rgbd: the dense tracker alone (DenseTracker::track, constant-velocity guess);
 //  - rgbdi, gyro: the two-state estimator (estimator/two_state_estimator.hpp) with the dense terms and the
 //    IMU samples between the frames. It starts at the first frame (gravity from the accelerometer window
@@ -32,6 +33,7 @@
 #include "vifusion/map/surfel_fusion.hpp"
 #include "vifusion/slam/dense_terms_options.hpp"
 #include "vifusion/slam/dense_tracker.hpp"
+#include "vifusion/slam/loop_closure.hpp"
 #include "vifusion/slam/reference_fill.hpp"
 #include "vifusion/slam/tracking_state.hpp"
 
@@ -62,6 +64,8 @@ struct SlamOptions {
   ImuCarryOptions carry;
   /// rgbd mode: when the photometric term uses the reference view's fill-in (reference_fill.hpp).
   ReferenceFillOptions fill;
+  /// Local loop closure by map deformation (loop_closure.hpp); `enabled = false` is open-loop odometry.
+  LoopClosureOptions loop;
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -99,6 +103,9 @@ struct FrameResult {
   double vision_chi2 = 0.0;                      ///< estimator::FrameSolve::vision_chi2
   bool vision_rejected = false;                  ///< estimator::FrameSolve::vision_rejected (then not kTracked)
   std::optional<imu::ImuSampleIssue> imu_issue;  ///< why the IMU could not be used this frame
+  /// This frame's loop-closure attempt; kAccepted: T_W_C is already the corrected pose, and the poses of earlier
+  /// frames move by Slam::deformPose.
+  ClosureReport closure;
 
   /// Not fused, and the pose is no more than a guess.
   bool lost() const { return tracking == TrackingState::kLost; }
@@ -121,6 +128,12 @@ class Slam {
   /// staging buffer. For the end of a run or shutdown, not the per-frame path: it allocates.
   void exportMap(std::vector<map::Surfel>& surfels) { exporter_->read(surfels); }
 
+  /// After a frame whose closure was accepted, the pose T_W_C of an earlier frame `frame` moved with the map
+  /// (its position bound to the deformation graph by time, as the surfels are); unchanged without loop closure.
+  SE3d deformPose(const SE3d& T_W_C, std::uint32_t frame) const {
+    return loop_closure_ ? loop_closure_->deformPose(T_W_C, frame) : T_W_C;
+  }
+
   uint64_t arenaBytes() const { return arena_->allocatedBytes(); }
   const gpu::MemoryArena& arena() const { return *arena_; }
   const map::MapBuffers& map() const { return *map_; }
@@ -140,6 +153,9 @@ class Slam {
   /// kImuCarried while the estimator's pose uncertainty is within ImuCarryOptions' bound, else kLost.
   TrackingState carriedOrLost(FrameResult& result) const;
   /// Starts the estimator at result.T_W_C; `previous` gives velocity, biases and gravity if it ran before.
+  /// After a tracked frame's map update: tries a loop closure and on acceptance moves the pose, the reference
+  /// view and the estimator with the map.
+  void closeLoop(FrameResult& result);
   void startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
                       FrameResult& result);
 
@@ -150,6 +166,7 @@ class Slam {
   double far_depth_sigma_m_ = 0.0;  ///< the sensor's axial noise there (the tracker's model) [m]
   std::int64_t time_shift_cam_imu_ns_ = 0;
   SE3d T_S_C_;
+  double gravity_mps2_ = 0.0;  ///< the calibration's |g|: E_imu's g_W in the inertial modes
   gpu::CapacityPlan plan_;
   std::unique_ptr<DenseTracker> tracker_;
   std::unique_ptr<map::MapBuffers> map_;
@@ -158,6 +175,7 @@ class Slam {
   std::unique_ptr<map::ModelPrediction> prediction_;
   std::unique_ptr<map::MapExport> exporter_;
   std::unique_ptr<ReferenceFill> reference_fill_;
+  std::unique_ptr<LoopClosure> loop_closure_;                ///< when LoopClosureOptions::enabled
   std::unique_ptr<TrackerDenseTerms> dense_terms_;           ///< inertial modes
   std::unique_ptr<estimator::TwoStateEstimator> estimator_;  ///< inertial modes
   std::unique_ptr<gpu::MemoryArena> arena_;

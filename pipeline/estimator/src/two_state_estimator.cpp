@@ -197,7 +197,8 @@ bool TwoStateEstimator::solveDense(DenseTerms& dense, Vector36d& step, FrameSolv
       if (!solveAndUpdate(step)) return false;
       ++summary.iterations;
       const auto pose_step = step.segment<6>(kStateDim + kIdxR);
-      if (pose_step.head<3>().norm() < options_.converged_step && pose_step.tail<3>().norm() < options_.converged_step) {
+      if (pose_step.head<3>().norm() < options_.converged_step &&
+          pose_step.tail<3>().norm() < options_.converged_step) {
         break;
       }
     }
@@ -218,8 +219,8 @@ bool TwoStateEstimator::refusedByGate(const NavState& x0_start, const NavState& 
     const bool gross_step = (x1_vision.r_W_C - x1_.r_W_C).norm() > options_.vision_gate_min_step_m ||
                             x1_vision.q_W_C.angularDistance(x1_.q_W_C) > options_.vision_gate_min_step_rad;
     // Gyro mode has no motion model to carry position: refusing vision there only loses frames.
-    summary.vision_rejected = options_.mode == InertialMode::kRgbdInertial &&
-                              summary.vision_chi2 > options_.vision_gate_chi2 && gross_step;
+    summary.vision_rejected =
+        options_.mode == InertialMode::kRgbdInertial && summary.vision_chi2 > options_.vision_gate_chi2 && gross_step;
   }
   if (summary.vision_rejected) {  // keep the inertial-only solution just computed
     summary.iterations += iterations;

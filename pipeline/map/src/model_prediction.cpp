@@ -28,10 +28,13 @@ void PredictionOptions::validate() const {
     throw Error(field("surfels") + " must be kActive or kInactive");
   }
   if (!(min_depth_m > 0.0f)) throw Error(field("min_depth_m") + " must be > 0");
-  if (max_half_footprint_px < 0 || max_half_footprint_px > 15) throw Error(field("max_half_footprint_px") + " must be in 0..15");
+  if (max_half_footprint_px < 0 || max_half_footprint_px > 15)
+    throw Error(field("max_half_footprint_px") + " must be in 0..15");
   if (surfel_workgroups == 0) throw Error(field("surfel_workgroups") + " must be ≥ 1");
-  if (surfel_workgroup_size == 0 || surfel_workgroup_size > 1024) throw Error(field("surfel_workgroup_size") + " must be in 1..1024");
-  if (image_workgroup_size == 0 || image_workgroup_size > 32) throw Error(field("image_workgroup_size") + " must be in 1..32");
+  if (surfel_workgroup_size == 0 || surfel_workgroup_size > 1024)
+    throw Error(field("surfel_workgroup_size") + " must be in 1..1024");
+  if (image_workgroup_size == 0 || image_workgroup_size > 32)
+    throw Error(field("image_workgroup_size") + " must be in 1..32");
 }
 
 struct ModelPrediction::Kernels {
@@ -102,8 +105,8 @@ void ModelPrediction::build(const gpu::MemoryArena& arena) {
   k.subsample = make("map_pyramid_subsample", shaders::map_pyramid_subsample, 6, sizeof(SubsamplePush), {wg, wg, 1},
                      static_cast<uint32_t>(std::max(1, options_.levels - 1)));
 
-  const uint64_t capacity_groups = (uint64_t{map_options_.capacity} + options_.surfel_workgroup_size - 1) /
-                                   options_.surfel_workgroup_size;
+  const uint64_t capacity_groups =
+      (uint64_t{map_options_.capacity} + options_.surfel_workgroup_size - 1) / options_.surfel_workgroup_size;
   k.splat_groups = static_cast<uint32_t>(std::min<uint64_t>(options_.surfel_workgroups, capacity_groups));
 
   auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
@@ -119,13 +122,14 @@ void ModelPrediction::build(const gpu::MemoryArena& arena) {
     }
     k.depth_sets[parity] = k.depth->bind({buffer(state_), buffer(params_), surfels, buffer(depth_bits_), buffer(ids_)});
     k.id_sets[parity] = k.id->bind({buffer(state_), buffer(params_), surfels, buffer(depth_bits_), buffer(ids_)});
-    k.attribute_sets[parity] = k.attributes->bind({buffer(params_), surfels, buffer(ids_), buffer(l0.vertices),
-                                                   buffer(l0.normals), buffer(l0.intensity)});
+    k.attribute_sets[parity] = k.attributes->bind(
+        {buffer(params_), surfels, buffer(ids_), buffer(l0.vertices), buffer(l0.normals), buffer(l0.intensity)});
   }
   for (int l = 1; l < options_.levels; ++l) {
     const ModelLevelBuffers& level = levels_[l];
-    k.subsample_sets.push_back(k.subsample->bind({buffer(l0.vertices), buffer(l0.normals), buffer(l0.intensity),
-                                                  buffer(level.vertices), buffer(level.normals), buffer(level.intensity)}));
+    k.subsample_sets.push_back(
+        k.subsample->bind({buffer(l0.vertices), buffer(l0.normals), buffer(l0.intensity), buffer(level.vertices),
+                           buffer(level.normals), buffer(level.intensity)}));
   }
 }
 
@@ -165,16 +169,17 @@ void ModelPrediction::record(gpu::CommandRecorder& recorder, int parity) const {
     recorder.computeBarrier();
   }
   const PinholeCamera& camera0 = cameras_[0];
-  recorder.dispatch(*k.attributes, k.attribute_sets[p],
-                    k.attributes->groupsFor(static_cast<uint32_t>(camera0.width), static_cast<uint32_t>(camera0.height)));
+  recorder.dispatch(
+      *k.attributes, k.attribute_sets[p],
+      k.attributes->groupsFor(static_cast<uint32_t>(camera0.width), static_cast<uint32_t>(camera0.height)));
   recorder.computeBarrier();
   if (options_.levels > 1) {
     for (int l = 1; l < options_.levels; ++l) {
       const PinholeCamera& camera = cameras_[l];
       const SubsamplePush push{camera0.width, camera.width, camera.height, 1 << l};
-      recorder.dispatch(*k.subsample, k.subsample_sets[l - 1],
-                        k.subsample->groupsFor(static_cast<uint32_t>(camera.width), static_cast<uint32_t>(camera.height)),
-                        push);
+      recorder.dispatch(
+          *k.subsample, k.subsample_sets[l - 1],
+          k.subsample->groupsFor(static_cast<uint32_t>(camera.width), static_cast<uint32_t>(camera.height)), push);
     }
     recorder.computeBarrier();
   }

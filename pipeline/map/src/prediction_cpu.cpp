@@ -59,9 +59,11 @@ Footprint footprintOf(const CameraSurfel& s, const PredictionParams& params) {
   f.centre_x = static_cast<int>(centre_x);
   f.centre_y = static_cast<int>(centre_y);
   f.x0 = static_cast<int>(std::max(std::max(std::ceil(uv.x() - half_x), centre_x - cap), 0.0f));
-  f.x1 = static_cast<int>(std::min(std::min(std::floor(uv.x() + half_x), centre_x + cap), static_cast<float>(view.width - 1)));
+  f.x1 = static_cast<int>(
+      std::min(std::min(std::floor(uv.x() + half_x), centre_x + cap), static_cast<float>(view.width - 1)));
   f.y0 = static_cast<int>(std::max(std::max(std::ceil(uv.y() - half_y), centre_y - cap), 0.0f));
-  f.y1 = static_cast<int>(std::min(std::min(std::floor(uv.y() + half_y), centre_y + cap), static_cast<float>(view.height - 1)));
+  f.y1 = static_cast<int>(
+      std::min(std::min(std::floor(uv.y() + half_y), centre_y + cap), static_cast<float>(view.height - 1)));
   return f;
 }
 
@@ -154,8 +156,9 @@ void splatModelCpu(std::span<const Surfel> surfels, const PredictionParams& para
   }
 }
 
-void resolveModelCpu(std::span<const Surfel> surfels, const PredictionParams& params, ImageView<const std::uint32_t> ids,
-                     ImageView<Eigen::Vector4f> vertices, ImageView<Eigen::Vector4f> normals, ImageView<float> intensity) {
+void resolveModelCpu(std::span<const Surfel> surfels, const PredictionParams& params,
+                     ImageView<const std::uint32_t> ids, ImageView<Eigen::Vector4f> vertices,
+                     ImageView<Eigen::Vector4f> normals, ImageView<float> intensity) {
   for (int y = 0; y < ids.height; ++y) {
     for (int x = 0; x < ids.width; ++x) {
       const std::uint32_t id = ids(x, y);

@@ -16,21 +16,31 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   vifusion::cli::SelfCheckOptions self_check;
-  CLI::App* self_check_command = app.add_subcommand(
-      "selfcheck", "GPU self-check: preprocessing kernels and reduction on a built-in frame, checked against the "
-                   "CPU references, with timings");
-  self_check_command->add_option("--device", self_check.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
-  self_check_command->add_option("--width", self_check.width, "Frame width [px], even")->capture_default_str()->check(CLI::Range(16, 4096));
-  self_check_command->add_option("--height", self_check.height, "Frame height [px]")->capture_default_str()->check(CLI::Range(16, 4096));
-  self_check_command->add_option("--frames", self_check.frames, "Timed repetitions per step")->capture_default_str()->check(CLI::Range(1, 100000));
+  CLI::App* self_check_command =
+      app.add_subcommand("selfcheck",
+                         "GPU self-check: preprocessing kernels and reduction on a built-in frame, checked against the "
+                         "CPU references, with timings");
+  self_check_command->add_option("--device", self_check.device,
+                                 "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
+  self_check_command->add_option("--width", self_check.width, "Frame width [px], even")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 4096));
+  self_check_command->add_option("--height", self_check.height, "Frame height [px]")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 4096));
+  self_check_command->add_option("--frames", self_check.frames, "Timed repetitions per step")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
 
   vifusion::cli::RunOptions run_options;
   CLI::App* run = app.add_subcommand(
-      "run", "Run the pipeline on a source and write trajectory.txt and report.json (default: the synthetic "
-             "living-room sequence, generated on first use)");
+      "run",
+      "Run the pipeline on a source and write trajectory.txt and report.json (default: the synthetic "
+      "living-room sequence, generated on first use)");
   run->add_option("--source", run_options.source, "sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE or dataset:DIR")
       ->capture_default_str();
-  run->add_option("--mode", run_options.mode, "rgbd, rgbdi (tightly coupled IMU) or gyro (gyroscope only)")->capture_default_str();
+  run->add_option("--mode", run_options.mode, "rgbd, rgbdi (tightly coupled IMU) or gyro (gyroscope only)")
+      ->capture_default_str();
   run->add_option("--out", run_options.out, "Output directory")->capture_default_str();
   run->add_option("--device", run_options.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
   run->add_option("--frames", run_options.max_frames, "Stop after this many frames (0: all)")->capture_default_str();
@@ -49,12 +59,15 @@ int main(int argc, char** argv) {
   eval_command->add_option("--gt", eval.gt, "Ground-truth trajectory (TUM format, T_world_camera)")->required();
   eval_command->add_option("--est", eval.est, "Estimated trajectory (TUM format)")->required();
   eval_command->add_option("--states", eval.states, "Estimator states.csv: adds velocity, bias and gravity errors");
-  eval_command->add_option("--gt-states", eval.gt_states, "Ground-truth states (default: groundtruth_states.csv beside --gt)");
+  eval_command->add_option("--gt-states", eval.gt_states,
+                           "Ground-truth states (default: groundtruth_states.csv beside --gt)");
   eval_command->add_option("--map", eval.map, "Map PLY: mean distance to the simulator's living room surfaces");
   eval_command->add_option("--plots", eval.plots_dir, "Directory for PNG plots");
   eval_command->add_option("--up", eval.up, "Up axis of the ground truth's world (gravity along -up)")
-      ->capture_default_str()->check(CLI::IsMember({"y", "z"}));
-  eval_command->add_option("--max-difference", eval.max_difference_s, "ATE association window [s]")->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::IsMember({"y", "z"}));
+  eval_command->add_option("--max-difference", eval.max_difference_s, "ATE association window [s]")
+      ->capture_default_str();
   eval_command->add_option("--rpe-delta", eval.rpe_delta_s, "RPE step [s]")->capture_default_str();
 
   vifusion::cli::SimOptions sim;
@@ -64,16 +77,26 @@ int main(int argc, char** argv) {
   sim_command->add_option("--trajectory", sim.trajectory, "Camera path as a TUM pose file (T_world_camera)");
   sim_command->add_option("--out", sim.out, "Dataset directory to create")->required();
   sim_command->add_option("--seed", sim.seed, "Random seed: same seed, same dataset")->capture_default_str();
-  sim_command->add_option("--imu", sim.imu, "IMU noise (Table I column)")->capture_default_str()
+  sim_command->add_option("--imu", sim.imu, "IMU noise (Table I column)")
+      ->capture_default_str()
       ->check(CLI::IsMember({"synthetic", "zr300"}));
-  sim_command->add_option("--up", sim.up, "Up axis of the trajectory's world")->capture_default_str()
+  sim_command->add_option("--up", sim.up, "Up axis of the trajectory's world")
+      ->capture_default_str()
       ->check(CLI::IsMember({"y", "z"}));
-  sim_command->add_option("--width", sim.width, "Image width [px], even")->capture_default_str()->check(CLI::Range(16, 4096));
-  sim_command->add_option("--height", sim.height, "Image height [px]")->capture_default_str()->check(CLI::Range(16, 4096));
-  sim_command->add_option("--duration", sim.duration_s, "Only the first seconds (0: whole path)")->capture_default_str();
-  sim_command->add_option("--motion-blur", sim.motion_blur_samples,
-                          "Sub-frame renders per image (-1: 5 for fast presets, else 1)")->capture_default_str();
-  sim_command->add_option("--data-dir", sim.data_dir, "Folder holding icl-nuim-trajectories/ (default: VIFUSION_DATA_DIR)");
+  sim_command->add_option("--width", sim.width, "Image width [px], even")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 4096));
+  sim_command->add_option("--height", sim.height, "Image height [px]")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 4096));
+  sim_command->add_option("--duration", sim.duration_s, "Only the first seconds (0: whole path)")
+      ->capture_default_str();
+  sim_command
+      ->add_option("--motion-blur", sim.motion_blur_samples,
+                   "Sub-frame renders per image (-1: 5 for fast presets, else 1)")
+      ->capture_default_str();
+  sim_command->add_option("--data-dir", sim.data_dir,
+                          "Folder holding icl-nuim-trajectories/ (default: VIFUSION_DATA_DIR)");
   sim_command->add_flag("!--no-noise", sim.noise, "No image noise and no IMU white noise");
   sim_command->add_flag("!--no-biases", sim.biases, "No IMU biases");
 
@@ -81,15 +104,19 @@ int main(int argc, char** argv) {
     command->add_option("--config", dds.config_file,
                         "vifusiond YAML whose dds.* keys to use (default: /etc/vifusion/vifusiond.yaml if present)");
     command->add_option("--dds-config", dds.dds_config, "Cyclone DDS XML (file, file:// URI or inline)");
-    command->add_option("--domain", dds.domain, "DDS domain id (default: the config's dds.domain)")->check(CLI::Range(0, 232));
+    command->add_option("--domain", dds.domain, "DDS domain id (default: the config's dds.domain)")
+        ->check(CLI::Range(0, 232));
     command->add_option("--partition", dds.partition, "DDS partition (default: the config's dds.partition)");
   };
   vifusion::cli::EchoCommandOptions echo;
-  CLI::App* echo_command = app.add_subcommand("echo", "Print the samples of one of vifusion's DDS topics as JSON lines");
-  echo_command->add_option("topic", echo.topic, "rt/vifusion/odometry or /vifusion/odometry, rt/tf, rt/diagnostics, ...")
+  CLI::App* echo_command =
+      app.add_subcommand("echo", "Print the samples of one of vifusion's DDS topics as JSON lines");
+  echo_command
+      ->add_option("topic", echo.topic, "rt/vifusion/odometry or /vifusion/odometry, rt/tf, rt/diagnostics, ...")
       ->required();
   echo_command->add_option("--count", echo.count, "Stop after this many samples (0: no limit)")->capture_default_str();
-  echo_command->add_option("--timeout", echo.timeout_s, "Give up after this many seconds (0: never)")->capture_default_str();
+  echo_command->add_option("--timeout", echo.timeout_s, "Give up after this many seconds (0: never)")
+      ->capture_default_str();
   echo_command->add_flag("--full-arrays", echo.full_arrays, "Print byte arrays (PointCloud2 data) in full");
   add_dds_options(echo_command, echo.dds);
 

@@ -122,8 +122,8 @@ int runPipeline(const RunOptions& options) {
   const auto context = gpu::GpuContext::create(gpu_options.withEnvironment());
   slam::Slam pipeline(*context, reader->calibration(), slam_options);
 
-  const std::size_t total = options.max_frames > 0 ? std::min<std::size_t>(options.max_frames, reader->frameCount())
-                                                   : reader->frameCount();
+  const std::size_t total =
+      options.max_frames > 0 ? std::min<std::size_t>(options.max_frames, reader->frameCount()) : reader->frameCount();
   std::vector<eval::StampedPose> trajectory;
   trajectory.reserve(total);
   std::vector<eval::StateRecord> states;
@@ -179,29 +179,30 @@ int runPipeline(const RunOptions& options) {
   }
 
   const int frames = static_cast<int>(trajectory.size());
-  nlohmann::json report = {
-      {"source", options.source},
-      {"dataset", reader->describe()},
-      {"mode", options.mode},
-      {"device", context->features().device_name},
-      {"frames", frames},
-      {"lost_frames", states_seen.frames(slam::TrackingState::kLost)},
-      {"tracking_states", states_seen.json()},
-      {"loop_closure", options.loop_closure},
-      {"closures", closures.json()},
-      {"frames_with_imu_issues", imu_issues},
-      {"ms_per_frame",
-       {{"preprocess", mean(preprocess_ms, frames)}, {"tracking", mean(tracking_ms, frames)},
-        {"mapping", mean(mapping_ms, frames)}}},
-      {"surfels", surfels},
-      {"map_overflow_surfels", map_overflow},
-      {"map_evicted_surfels", map_evicted},
-      {"gauss_newton_iterations_per_frame", mean(iterations, frames)},
-      {"frames_per_s", frames / wall_s},
-      {"arena_bytes", pipeline.arenaBytes()}};
+  nlohmann::json report = {{"source", options.source},
+                           {"dataset", reader->describe()},
+                           {"mode", options.mode},
+                           {"device", context->features().device_name},
+                           {"frames", frames},
+                           {"lost_frames", states_seen.frames(slam::TrackingState::kLost)},
+                           {"tracking_states", states_seen.json()},
+                           {"loop_closure", options.loop_closure},
+                           {"closures", closures.json()},
+                           {"frames_with_imu_issues", imu_issues},
+                           {"ms_per_frame",
+                            {{"preprocess", mean(preprocess_ms, frames)},
+                             {"tracking", mean(tracking_ms, frames)},
+                             {"mapping", mean(mapping_ms, frames)}}},
+                           {"surfels", surfels},
+                           {"map_overflow_surfels", map_overflow},
+                           {"map_evicted_surfels", map_evicted},
+                           {"gauss_newton_iterations_per_frame", mean(iterations, frames)},
+                           {"frames_per_s", frames / wall_s},
+                           {"arena_bytes", pipeline.arenaBytes()}};
   if (!reader->groundTruth().empty() && frames >= 3) {
     std::vector<eval::StampedPose> ground_truth;
-    for (const datasets::StampedPose& pose : reader->groundTruth()) ground_truth.push_back({pose.t_ns, pose.T_world_body});
+    for (const datasets::StampedPose& pose : reader->groundTruth())
+      ground_truth.push_back({pose.t_ns, pose.T_world_body});
     const eval::AteResult ate = eval::ate(ground_truth, trajectory);
     report["ate_rmse_m"] = ate.rmse_m;
   }

@@ -74,7 +74,7 @@ struct FrameSolve {
   /// gate's minimum) the solution is refused.
   double vision_chi2 = 0.0;
   bool vision_rejected = false;  ///< the dense solution converged but failed that gate
-  bool restarted = false;    ///< even the inertial-only system was singular: restarted at the IMU prediction
+  bool restarted = false;        ///< even the inertial-only system was singular: restarted at the IMU prediction
 };
 
 class TwoStateEstimator {
@@ -152,9 +152,9 @@ class TwoStateEstimator {
   EstimatorOptions options_;
   imu::ImuPreintegrator preintegrator_;
   imu::ImuError imu_error_;
-  Mask18 x0_estimated_;        ///< dims of x0 estimated in this mode (never δg_z)
-  Mask18 x1_estimated_;        ///< dims of x1 estimated with vision
-  Mask18 x1_inertial_only_;    ///< dims of x1 estimated without vision
+  Mask18 x0_estimated_;      ///< dims of x0 estimated in this mode (never δg_z)
+  Mask18 x1_estimated_;      ///< dims of x1 estimated with vision
+  Mask18 x1_inertial_only_;  ///< dims of x1 estimated without vision
 
   bool initialised_ = false;
   std::int64_t t_ns_ = 0;

@@ -43,8 +43,8 @@ struct PredictionOptions {
   /// would have no model. 20 frames (≈ 0.7 s at 30 Hz) leaves time for the first surfels to
   /// reach the default threshold of 10 even when seen off-centre (weight ≈ 0.5 per frame).
   std::uint32_t young_map_frames = 20;
-  float min_depth_m = 0.1f;           ///< surfel centres nearer than this are not rendered [m]
-  int max_half_footprint_px = 3;      ///< a disk covers at most 7 × 7 px
+  float min_depth_m = 0.1f;                   ///< surfel centres nearer than this are not rendered [m]
+  int max_half_footprint_px = 3;              ///< a disk covers at most 7 × 7 px
   std::uint32_t surfel_workgroups = 512;      ///< workgroups of the grid-stride splat passes
   std::uint32_t surfel_workgroup_size = 128;  ///< invocations per splat workgroup
   std::uint32_t image_workgroup_size = 16;    ///< square workgroups of the per-pixel passes

@@ -18,7 +18,7 @@ namespace vifusion::map {
 
 /// World → camera pose, level-0 intrinsics and current frame (MapView in view.glsl).
 struct MapView {
-  float T_C_W_rows[3][4] = {};  ///< rows of the 3×4 transform world → camera [m]
+  float T_C_W_rows[3][4] = {};           ///< rows of the 3×4 transform world → camera [m]
   float fx = 0, fy = 0, cx = 0, cy = 0;  ///< level-0 intrinsics [px]; fy may be negative
   float inv_fx = 0, inv_fy = 0;          ///< 1/fx, 1/fy [1/px]
   std::int32_t width = 0, height = 0;    ///< level-0 image size [px]
@@ -43,11 +43,11 @@ enum class PredictedSurfels : std::uint32_t {
 /// PredictionParams in prediction.glsl.
 struct PredictionParams {
   MapView view;
-  float confidence_threshold = 0;       ///< stable when confidence ≥ this
-  std::uint32_t time_window_frames = 0; ///< δ_t: active when updated within this many frames
-  std::uint32_t young_map_frames = 0;   ///< before this frame every active surfel is rendered
-  float min_depth_m = 0;                ///< nearer surfel centres are not rendered [m]
-  float max_depth_m = 0;                ///< nor farther ones [m]
+  float confidence_threshold = 0;          ///< stable when confidence ≥ this
+  std::uint32_t time_window_frames = 0;    ///< δ_t: active when updated within this many frames
+  std::uint32_t young_map_frames = 0;      ///< before this frame every active surfel is rendered
+  float min_depth_m = 0;                   ///< nearer surfel centres are not rendered [m]
+  float max_depth_m = 0;                   ///< nor farther ones [m]
   std::int32_t max_half_footprint_px = 0;  ///< footprint cap: (2·cap + 1)² pixels
   std::uint32_t surfels = static_cast<std::uint32_t>(PredictedSurfels::kActive);  ///< a PredictedSurfels value
   std::uint32_t pad = 0;
@@ -74,8 +74,9 @@ void splatModelCpu(std::span<const Surfel> surfels, const PredictionParams& para
                    ImageView<std::uint32_t> ids);
 
 /// The resolve pass: level-0 model maps in the camera frame from the splat ids.
-void resolveModelCpu(std::span<const Surfel> surfels, const PredictionParams& params, ImageView<const std::uint32_t> ids,
-                     ImageView<Eigen::Vector4f> vertices, ImageView<Eigen::Vector4f> normals, ImageView<float> intensity);
+void resolveModelCpu(std::span<const Surfel> surfels, const PredictionParams& params,
+                     ImageView<const std::uint32_t> ids, ImageView<Eigen::Vector4f> vertices,
+                     ImageView<Eigen::Vector4f> normals, ImageView<float> intensity);
 
 /// Level-l maps from level 0 by point sampling: dst(x, y) = src(2^l·x, 2^l·y).
 void subsampleModelCpu(ImageView<const Eigen::Vector4f> vertices0, ImageView<const Eigen::Vector4f> normals0,

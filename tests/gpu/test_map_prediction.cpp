@@ -266,7 +266,8 @@ double maxAbsDifference(ImageView<const float> a, ImageView<const float> b) {
 }
 
 /// Expects the GPU prediction in `rig` to equal the CPU reference for `surfels` at every level.
-void expectPredictionMatchesCpu(const MapRig& rig, std::span<const Surfel> surfels, const map::PredictionParams& params) {
+void expectPredictionMatchesCpu(const MapRig& rig, std::span<const Surfel> surfels,
+                                const map::PredictionParams& params) {
   const int w = params.view.width;
   const int h = params.view.height;
   Image<std::uint32_t> depth_bits(w, h), ids(w, h);
@@ -611,7 +612,8 @@ TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndEvictsInactiveSurfelsOnlyWhenFul
     EXPECT_EQ(removed[int(Kind::Inactive)], 0u);
     EXPECT_EQ(removed[int(Kind::InactiveUnstable)], full ? total[int(Kind::InactiveUnstable)] : 0u);
     EXPECT_EQ(removed[int(Kind::InactiveOld)], full ? total[int(Kind::InactiveOld)] : 0u);
-    EXPECT_EQ(expected.evicted_when_full, full ? total[int(Kind::InactiveUnstable)] + total[int(Kind::InactiveOld)] : 0u);
+    EXPECT_EQ(expected.evicted_when_full,
+              full ? total[int(Kind::InactiveUnstable)] + total[int(Kind::InactiveOld)] : 0u);
     EXPECT_EQ(removed[int(Kind::OldUnstable)], total[int(Kind::OldUnstable)]);
     // Floaters are only tested when they face the camera; nearly all of those are seen through.
     EXPECT_LE(removed[int(Kind::Floater)], facing_floaters);

@@ -80,7 +80,8 @@ struct DeformationGraphOptions {
   /// pass at once. In [0, 30].
   int max_damping_retries = 8;
   /// Converged when the largest step entry |δ|∞ is below this (A entries are unitless, t in m: 1e-7 is
-  /// 0.1 µm, far below the 1 mm the map needs; ElasticFusion's 1e-2 on ‖δ‖ stops at mm-level errors). ≥ 0.
+  /// 0.1 µm, four orders below the map's millimetre; ElasticFusion's 1e-2 on ‖δ‖ leaves millimetre-level
+  /// errors). ≥ 0.
   double step_tolerance = 1e-7;
   /// Converged when the cost decreases by less than this fraction in one step (ElasticFusion: 1e-5). ≥ 0.
   double relative_cost_tolerance = 1e-9;

@@ -1,17 +1,41 @@
 #include "frame_log.hpp"
 
 #include <cstdio>
+#include <numbers>
 
 #include "vifusion/core/error.hpp"
 
 namespace vifusion::cli {
+namespace {
+constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
+}  // namespace
 
 void FrameLog::add(const slam::FrameResult& result) {
-  rows_.push_back({result.t_ns, result.tracking, result.pose_sigma_m, result.inertial && !result.imu_issue.has_value(),
-                   result.icp_inliers, result.icp_candidates, result.rgb_inliers, result.coverage,
-                   result.used_reference_fill, result.iterations, result.surfels, result.map_evicted,
-                   result.preprocess_ms, result.tracking_ms, result.mapping_ms, result.imu_chi2, result.vision_chi2,
-                   result.vision_rejected});
+  rows_.push_back({result.t_ns,
+                   result.tracking,
+                   result.pose_sigma_m,
+                   result.inertial && !result.imu_issue.has_value(),
+                   result.icp_inliers,
+                   result.icp_candidates,
+                   result.rgb_inliers,
+                   result.coverage,
+                   result.used_reference_fill,
+                   result.iterations,
+                   result.surfels,
+                   result.map_evicted,
+                   result.preprocess_ms,
+                   result.tracking_ms,
+                   result.mapping_ms,
+                   result.imu_chi2,
+                   result.vision_chi2,
+                   result.vision_rejected,
+                   static_cast<int>(result.closure.outcome),
+                   static_cast<int>(result.closure.refusal),
+                   1e3 * result.closure.constraint_error_after_m,
+                   result.closure.registration.inliers,
+                   1e3 * result.closure.registration.position_sigma_m,
+                   result.closure.registration.rotation_sigma_rad * kDegreesPerRadian,
+                   result.closure.ms});
 }
 
 void FrameLog::write(const std::filesystem::path& path) const {
@@ -22,14 +46,17 @@ void FrameLog::write(const std::filesystem::path& path) const {
                "#t_ns,tracking,lost,pose_sigma_m,imu,icp_inliers,icp_candidates,rgb_inliers,coverage,fill,iterations,"
                "surfels,evicted,preprocess_ms,tracking_ms,"
                "mapping_ms,imu_chi2,vision_chi2,vision_rejected,closure,closure_refusal,closure_error_mm,closure_"
-               "inliers,closure_ms\n");
+               "inliers,closure_sigma_mm,closure_sigma_deg,closure_ms\n");
   for (const Row& r : rows_) {
-    std::fprintf(
-        file, "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%.3f,%.3f,%.3f,%.6g,%.6g,%d,%d,%d,%.3f,%.0f,%.1f\n",
-        static_cast<long long>(r.t_ns), static_cast<int>(r.tracking), r.tracking == slam::TrackingState::kLost ? 1 : 0,
-        r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers, r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0,
-        r.iterations, r.surfels, r.evicted, r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.imu_chi2, r.vision_chi2,
-        r.vision_rejected ? 1 : 0, r.closure, r.closure_refusal, r.closure_error_mm, r.closure_inliers, r.closure_ms);
+    std::fprintf(file,
+                 "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%.3f,%.3f,%.3f,%.6g,%.6g,%d,%d,%d,%.3f,%.0f,%.3f,%"
+                 ".4f,%.1f\n",
+                 static_cast<long long>(r.t_ns), static_cast<int>(r.tracking),
+                 r.tracking == slam::TrackingState::kLost ? 1 : 0, r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers,
+                 r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0, r.iterations, r.surfels, r.evicted,
+                 r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.imu_chi2, r.vision_chi2, r.vision_rejected ? 1 : 0,
+                 r.closure, r.closure_refusal, r.closure_error_mm, r.closure_inliers, r.closure_sigma_mm,
+                 r.closure_sigma_deg, r.closure_ms);
   }
   if (std::fclose(file) != 0) throw Error(temporary + ": write failed");
   std::filesystem::rename(temporary, path);

@@ -38,7 +38,8 @@ class RegistrationRig {
             .push_back({mirror(stage_->level(l).vertices, "vertices"), mirror(stage_->level(l).normals, "normals")});
       }
     }
-    registration_ = std::make_unique<slam::ModelRegistration>(context, plan_, levels, tracking::IcpOptions{}, options);
+    registration_ = std::make_unique<slam::ModelRegistration>(context, plan_, levels, tracking::IcpOptions{},
+                                                              preprocess_options.metric.max_depth_m, options);
     arena_ = gpu::MemoryArena::create(context, plan_);
     stage_->build(*arena_);
     std::vector<slam::RegistrationLevel> inputs;
@@ -120,6 +121,22 @@ TEST_F(ModelRegistrationTest, UnrelatedViewsAreRefusedByName) {
   const slam::RegistrationResult result = rig.align();
   EXPECT_FALSE(result.accepted());
   EXPECT_STRNE(slam::registrationVerdictName(result.verdict), "accepted");
+}
+
+TEST_F(ModelRegistrationTest, AWallAloneIsRefusedAsUnconstrained) {
+  // A fronto-parallel wall 1.5 m away leaves the two in-plane translations and the turn about its normal free.
+  // With them projected out the 6×6 system is singular up to rounding: the step must move only what the wall
+  // holds, and the verdict must name the conditioning (an LDLT of it reported a numerical issue: "diverged").
+  constexpr std::uint16_t kWallDepthMm = 1500;
+  test::SevenScenesFrame wall = test::loadSevenScenesFrame(150);
+  for (int y = 0; y < wall.depth_mm.height(); ++y) {
+    for (int x = 0; x < wall.depth_mm.width(); ++x) wall.depth_mm(x, y) = kWallDepthMm;
+  }
+  RegistrationRig rig(context(), wall, wall);
+  const slam::RegistrationResult result = rig.align();
+  EXPECT_EQ(result.verdict, slam::RegistrationVerdict::kUnconstrained) << slam::registrationVerdictName(result.verdict);
+  EXPECT_LT(result.T_inactive_active.translation().norm(), 1e-5);
+  EXPECT_LT(result.T_inactive_active.log().tail<3>().norm(), 1e-5);
 }
 
 TEST(RegistrationOptions, ValidationNamesTheField) {

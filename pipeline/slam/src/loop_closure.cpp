@@ -88,12 +88,13 @@ ClosureRefusal refusalOf(RegistrationVerdict verdict) {
 
 LoopClosure::LoopClosure(gpu::GpuContext& context, gpu::CapacityPlan& plan, const map::MapBuffers& map,
                          const map::ModelPrediction& prediction, const map::PredictionOptions& prediction_options,
-                         const tracking::IcpOptions& icp, const LoopClosureOptions& options)
+                         const tracking::IcpOptions& icp, double far_depth_m, const LoopClosureOptions& options)
     : context_(context), map_(map), active_(prediction), options_(options) {
   options_.validate();
   const PinholeCamera& camera = prediction.camera(0);
   inactive_ = std::make_unique<map::ModelPrediction>(context, plan, map, camera, inactiveOptions(prediction_options));
-  registration_ = std::make_unique<ModelRegistration>(context, plan, prediction.levels(), icp, options_.registration);
+  registration_ =
+      std::make_unique<ModelRegistration>(context, plan, prediction.levels(), icp, far_depth_m, options_.registration);
   for (int y = options_.constraint_grid_step_px / 2; y < camera.height; y += options_.constraint_grid_step_px) {
     for (int x = options_.constraint_grid_step_px / 2; x < camera.width; x += options_.constraint_grid_step_px) {
       grid_.push_back({x, y});

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "vifusion/core/error.hpp"
@@ -31,8 +32,7 @@ void RegistrationOptions::validate() const {
   }
   if (!(information_scale > 0.0 && information_scale <= 1.0))
     throw Error(field("information_scale") + " must be in (0, 1]");
-  if (!(max_position_sigma_m > 0.0)) throw Error(field("max_position_sigma_m") + " must be > 0");
-  if (!(max_rotation_sigma_rad > 0.0)) throw Error(field("max_rotation_sigma_rad") + " must be > 0");
+  if (!(max_pose_to_depth_sigma > 0.0)) throw Error(field("max_pose_to_depth_sigma") + " must be > 0");
   if (!(max_correction_m > 0.0)) throw Error(field("max_correction_m") + " must be > 0");
   if (!(max_correction_rad > 0.0)) throw Error(field("max_correction_rad") + " must be > 0");
 }
@@ -57,10 +57,35 @@ const char* registrationVerdictName(RegistrationVerdict verdict) {
   return "unknown";
 }
 
+namespace {
+
+/// The Gauss-Newton step −H⁺·b over the directions the system constrains. With the unconstrained directions
+/// projected out, H is singular up to rounding, where an LDLT reports a numerical issue; the pseudo-inverse
+/// moves nothing along eigenvalues below kRelativeEigenvalueFloor of the largest.
+Vector6d constrainedStep(const NormalEquations6& system) {
+  constexpr double kRelativeEigenvalueFloor = 1e-9;
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(system.H);
+  if (eigen.info() != Eigen::Success) return Vector6d::Constant(std::numeric_limits<double>::quiet_NaN());
+  const double floor = kRelativeEigenvalueFloor * eigen.eigenvalues().cwiseAbs().maxCoeff();
+  Vector6d inverse = Vector6d::Zero();
+  for (int k = 0; k < 6; ++k) {
+    if (eigen.eigenvalues()(k) > floor) inverse(k) = 1.0 / eigen.eigenvalues()(k);
+  }
+  return -(eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose()) * system.b;
+}
+
+}  // namespace
+
 ModelRegistration::ModelRegistration(gpu::GpuContext& context, gpu::CapacityPlan& plan, int levels,
-                                     const tracking::IcpOptions& icp, const RegistrationOptions& options)
-    : context_(context), options_(options), levels_(levels) {
+                                     const tracking::IcpOptions& icp, double far_depth_m,
+                                     const RegistrationOptions& options)
+    : context_(context),
+      options_(options),
+      far_depth_m_(far_depth_m),
+      far_depth_sigma_m_(icp.axialSigmaAt(far_depth_m)),
+      levels_(levels) {
   options_.validate();
+  if (!(far_depth_m > 0.0)) throw Error("model registration: the far depth must be > 0 m");
   if (levels < 1 || levels > 3) throw Error("model registration: levels must be 1..3");
   icp_ = std::make_unique<tracking::IcpTerm>(context, plan, levels, icp, LevelReductionOptions{},
                                              "registration.icp_reduce");
@@ -106,9 +131,8 @@ RegistrationResult ModelRegistration::align() {
       // Directions the surfaces leave free are not moved: the conditioning test below refuses such a view.
       NormalEquations6 constrained = system;
       tracking::removeUnconstrainedIcpDirections(system, options_.min_constraint_share, constrained);
-      const Eigen::LDLT<Matrix6d> ldlt(constrained.H);
-      const Vector6d delta = ldlt.solve(-constrained.b);
-      if (ldlt.info() != Eigen::Success || !delta.allFinite()) {
+      const Vector6d delta = constrainedStep(constrained);
+      if (!delta.allFinite()) {
         result.verdict = RegistrationVerdict::kDiverged;
         return result;
       }
@@ -138,13 +162,13 @@ RegistrationResult ModelRegistration::align() {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rotation(covariance.bottomRightCorner<3, 3>());
   result.position_sigma_m = std::sqrt(std::max(0.0, position.eigenvalues().maxCoeff()));
   result.rotation_sigma_rad = std::sqrt(std::max(0.0, rotation.eigenvalues().maxCoeff()));
+  result.far_sigma_m = std::hypot(result.position_sigma_m, far_depth_m_ * result.rotation_sigma_rad);
   const Vector6d correction = T.log();
   if (!(result.mean_chi2 <= options_.max_mean_chi2)) {
     result.verdict = RegistrationVerdict::kResidual;
   } else if (free_directions > 0) {
     result.verdict = RegistrationVerdict::kUnconstrained;
-  } else if (!(result.position_sigma_m <= options_.max_position_sigma_m) ||
-             !(result.rotation_sigma_rad <= options_.max_rotation_sigma_rad)) {
+  } else if (!(result.far_sigma_m <= options_.max_pose_to_depth_sigma * far_depth_sigma_m_)) {
     result.verdict = RegistrationVerdict::kCovariance;
   } else if (!(correction.head<3>().norm() <= options_.max_correction_m) ||
              !(correction.tail<3>().norm() <= options_.max_correction_rad)) {

@@ -67,8 +67,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   map::FusionOptions fusion = options.fusion;
   fusion.depth_noise = {icp.sigma_z_a_m, icp.sigma_z_b_per_m, icp.sigma_z_z0_m};
   far_depth_m_ = options.tracker.preprocess.metric.max_depth_m;
-  const double far_dz_m = far_depth_m_ - icp.sigma_z_z0_m;
-  far_depth_sigma_m_ = icp.sigma_z_a_m + icp.sigma_z_b_per_m * far_dz_m * far_dz_m;
+  far_depth_sigma_m_ = icp.axialSigmaAt(far_depth_m_);
   fusion_ = std::make_unique<map::SurfelFusion>(context, plan_, *map_, camera, fusion);
   maintenance_ = std::make_unique<map::MapMaintenance>(context, plan_, *map_, camera, options.maintenance);
   map::PredictionOptions prediction = options.prediction;
@@ -77,7 +76,8 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   exporter_ = std::make_unique<map::MapExport>(context, plan_, *map_);
   reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_);
   if (options.loop.enabled) {
-    loop_closure_ = std::make_unique<LoopClosure>(context, plan_, *map_, *prediction_, prediction, icp, options.loop);
+    loop_closure_ =
+        std::make_unique<LoopClosure>(context, plan_, *map_, *prediction_, prediction, icp, far_depth_m_, options.loop);
   }
   if (mode_ != SlamMode::kRgbd) {
     estimator::EstimatorOptions estimator_options = options.estimator;

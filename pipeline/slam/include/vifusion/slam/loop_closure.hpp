@@ -107,10 +107,11 @@ struct ClosureReport {
 class LoopClosure {
  public:
   /// Declares the inactive prediction, registration, sampling, deformation and reactivation in `plan`, for the
-  /// active `prediction` (whose level-0 camera and levels it shares) of `map`.
+  /// active `prediction` (whose level-0 camera and levels it shares) of `map`; `far_depth_m` is the far end of
+  /// the depth range [m] (ModelRegistration's covariance test).
   LoopClosure(gpu::GpuContext& context, gpu::CapacityPlan& plan, const map::MapBuffers& map,
               const map::ModelPrediction& prediction, const map::PredictionOptions& prediction_options,
-              const tracking::IcpOptions& icp, const LoopClosureOptions& options);
+              const tracking::IcpOptions& icp, double far_depth_m, const LoopClosureOptions& options);
   ~LoopClosure();
 
   /// Creates the kernels and sequences and runs each once on the (empty) map, so that pipelines are compiled at

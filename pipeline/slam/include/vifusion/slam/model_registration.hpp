@@ -16,8 +16,12 @@
 //                ≤ max_mean_chi2: the aligned models agree to the sensor's own noise;
 //   conditioning no ICP direction is unconstrained (tracking/icp_degeneracy.hpp's share test): a wall
 //                alone would let the closure slide along it;
-//   covariance   the alignment's σ (from the ICP information scaled for the pixels' correlation, as
-//                DenseTermsOptions does) within max_position_sigma_m and max_rotation_sigma_rad;
+//   covariance   the alignment's largest position and rotation σ (σ_r, σ_θ: from the ICP information scaled
+//                for the pixels' correlation, as DenseTermsOptions does) move a point at the far end of the
+//                depth range by σ_p = √(σ_r² + z_far²·σ_θ²) ≤ max_pose_to_depth_sigma · σ_z(z_far): the
+//                correction is known to the sensor's own noise there, so deforming the map by it adds no more
+//                error than fusing one more frame (the bound of slam/tracking_state.hpp's IMU-carried frames;
+//                25.8 mm at 4 m with the Kinect model);
 //   correction   the correction within max_correction_m / max_correction_rad: local closure corrects drift
 //                since the surfaces went inactive, and ICP from the identity has no wider basin anyway.
 //
@@ -55,10 +59,8 @@ struct RegistrationOptions {
   double min_constraint_share = 0.02;
   /// The information's scale for the pixels' correlation (DenseTermsOptions::information_scale). In (0, 1].
   double information_scale = 0.01;
-  /// Largest σ of the correction's position [m] and rotation [rad] under that scale: a closure moves the map by
-  /// its correction, so its uncertainty must be below the surfels' own (the depth noise is ≥ 1.2 mm).
-  double max_position_sigma_m = 0.002;
-  double max_rotation_sigma_rad = 0.002;
+  /// The covariance test's bound on σ_p(z_far) as a multiple of σ_z(z_far) (see above). > 0.
+  double max_pose_to_depth_sigma = 1.0;
   /// Largest correction accepted [m], [rad] (ElasticFusion refuses a 0.3 m jump in tracking).
   double max_correction_m = 0.3;
   double max_correction_rad = 0.2;
@@ -86,8 +88,9 @@ struct RegistrationResult {
   double inliers = 0.0;     ///< level-0 ICP inliers at the solution (refused for overlap: at the level it stopped)
   double candidates = 0.0;  ///< level-0 active pixels offered (likewise)
   double mean_chi2 = 0.0;   ///< Σ w r² / inliers at the solution
-  double position_sigma_m = 0.0;
-  double rotation_sigma_rad = 0.0;
+  double position_sigma_m = 0.0;    ///< σ_r: largest position σ [m]
+  double rotation_sigma_rad = 0.0;  ///< σ_θ: largest rotation σ [rad]
+  double far_sigma_m = 0.0;         ///< σ_p(z_far) = √(σ_r² + z_far²·σ_θ²) [m], the covariance test's figure
   int iterations = 0;
   bool accepted() const { return verdict == RegistrationVerdict::kAccepted; }
 };
@@ -101,9 +104,10 @@ struct RegistrationLevel {
 
 class ModelRegistration {
  public:
-  /// Declares the ICP's buffers for `levels` levels (1..3). Throws vifusion::Error on bad options.
+  /// Declares the ICP's buffers for `levels` levels (1..3). `far_depth_m`: the far end of the depth range [m],
+  /// where the covariance test is taken. Throws vifusion::Error on bad options.
   ModelRegistration(gpu::GpuContext& context, gpu::CapacityPlan& plan, int levels, const tracking::IcpOptions& icp,
-                    const RegistrationOptions& options = {});
+                    double far_depth_m, const RegistrationOptions& options = {});
   ~ModelRegistration();
 
   /// Creates the kernels and records one sequence per level over `levels` (finest first).
@@ -117,6 +121,8 @@ class ModelRegistration {
  private:
   gpu::GpuContext& context_;
   RegistrationOptions options_;
+  double far_depth_m_ = 0.0;
+  double far_depth_sigma_m_ = 0.0;  ///< σ_z(z_far) [m]
   int levels_ = 0;
   std::vector<PinholeCamera> cameras_;
   std::unique_ptr<tracking::IcpTerm> icp_;

@@ -21,6 +21,12 @@ struct IcpOptions {
   float sigma_z_z0_m = 0.4f;
   float huber_k = 3.0f;  ///< residuals beyond 3σ are down-weighted as outliers
 
+  /// The sensor's axial depth noise σ_z(z) = a + b·(z − z0)² at camera depth z [m] (the kernel's model).
+  double axialSigmaAt(double z_m) const {
+    const double dz_m = z_m - sigma_z_z0_m;
+    return sigma_z_a_m + sigma_z_b_per_m * dz_m * dz_m;
+  }
+
   /// Throws vifusion::Error naming the field that is not positive or out of range.
   void validate() const;
 };

@@ -20,6 +20,22 @@ void require(bool ok, double value, const char* name, const char* condition) {
   }
 }
 
+/// Block rows of L reserved beyond the band for E_rel between windows far apart in time: such a constraint
+/// fills the rows of its later window's (at most kBoundNodes) nodes back to the earlier window.
+constexpr int kFarFactorRows = kBoundNodes;
+
+/// The normal equations' capacity: every block inside the band of E_reg (neighbours_per_side) and of the
+/// binding windows (candidates − 1), which holds E_con, E_pin and E_rel between nearby windows, plus
+/// kFarFactorRows rows of L of up to max_nodes − 1 blocks, each coupled to a window of `candidates` nodes.
+BlockSparseCapacity solverCapacity(const DeformationGraphOptions& options) {
+  const std::int64_t nodes = options.max_nodes;
+  BlockSparseCapacity capacity =
+      BlockSparseCapacity::band(options.max_nodes, std::max(options.neighbours_per_side, options.candidates - 1));
+  capacity.max_pattern_blocks += kFarFactorRows * std::min<std::int64_t>(options.candidates, nodes);
+  capacity.max_factor_nonzeros += kFarFactorRows * (nodes - 1) * BlockSparseCapacity::kBlockNonzeros;
+  return capacity;
+}
+
 template <class V>
 std::span<const typename V::value_type> head(const V& v, int count) {
   return {v.data(), static_cast<std::size_t>(count)};
@@ -77,6 +93,10 @@ DeformationGraph::DeformationGraph(const DeformationGraphOptions& options) : opt
   iterate_.resize(params);
   trial_.resize(params);
   delta_.resize(params);
+  system_ = BlockSparseSystem(solverCapacity(options_));
+  // Every edge and, per constraint, each pair among its (at most two) bindings' nodes.
+  constexpr std::size_t kPairsPerConstraint = kBoundNodes * (2 * kBoundNodes - 1);
+  pattern_pairs_.reserve(edges_.capacity() + static_cast<std::size_t>(options_.max_constraints) * kPairsPerConstraint);
 }
 
 void DeformationGraph::build(std::span<const NodeSample> samples) {
@@ -267,8 +287,8 @@ std::pair<double, double> DeformationGraph::constraintErrors(std::span<const dou
   return {count > 0 ? sum / count : 0.0, max};
 }
 
-void DeformationGraph::buildPattern() {
-  std::vector<std::pair<int, int>> pairs(edges_.begin(), edges_.end());
+bool DeformationGraph::buildPattern() {
+  pattern_pairs_.assign(edges_.begin(), edges_.end());  // within the capacity reserved at construction
   for (const Constraint& k : constraints_) {
     std::array<int, 2 * kBoundNodes> nodes{};
     int count = 0;
@@ -278,12 +298,12 @@ void DeformationGraph::buildPattern() {
     }
     for (int a = 0; a < count; ++a) {
       for (int b = a + 1; b < count; ++b) {
-        pairs.emplace_back(nodes[static_cast<std::size_t>(a)], nodes[static_cast<std::size_t>(b)]);
+        pattern_pairs_.emplace_back(nodes[static_cast<std::size_t>(a)], nodes[static_cast<std::size_t>(b)]);
       }
     }
   }
-  system_.setPattern(node_count_, pairs);
-  pattern_dirty_ = false;
+  pattern_dirty_ = !system_.setPattern(node_count_, pattern_pairs_);  // false: beyond the solver's capacity
+  return !pattern_dirty_;
 }
 
 void DeformationGraph::addPointTerm(const NodeBinding<double>* bindings, const PointJacobians* J, int count,
@@ -378,7 +398,10 @@ DeformationSolveResult DeformationGraph::solve() {
     result.status = DeformationSolveStatus::kNumericalFailure;
     return result;
   }
-  if (pattern_dirty_) buildPattern();
+  if (pattern_dirty_ && !buildPattern()) {
+    result.status = DeformationSolveStatus::kNumericalFailure;
+    return result;
+  }
 
   result.status = DeformationSolveStatus::kMaxIterations;
   // Marquardt factor: 0 is plain Gauss-Newton (ElasticFusion). A rising step is retried on the same

@@ -19,11 +19,11 @@
 // applied deformation changes only by an explicit commit(), never by a solve, failed or not.
 //
 // Memory: the constructor allocates everything sized by the options (nodes, edges, parameter vectors,
-// constraints: max_nodes and max_constraints). build() and the add*() functions only write into it. The
-// first solve() after build() or after the constraint set changed allocates the sparse pattern, the
-// normal-equation matrix and Eigen's symbolic factorisation (deformation_solver.hpp); later solves on the
-// same pattern allocate only inside Eigen's numeric factorisation (a permuted copy of H and O(n) work
-// arrays per Gauss-Newton iteration). Capacity overflow throws vifusion::Error naming the capacity.
+// constraints: max_nodes and max_constraints; the normal equations and their factor for the band of
+// max(neighbours_per_side, candidates − 1) blocks, deformation_solver.hpp: about 53 MB at 1024 nodes and
+// window 20). build(), the add*() functions and solve() only write into it: nothing allocates after
+// construction. Capacity overflow throws vifusion::Error naming the capacity, except a
+// pattern beyond the solver's (E_rel between windows far apart in time): solve() reports kNumericalFailure.
 //
 // Not thread-safe; one graph per loop-closure thread.
 
@@ -107,7 +107,7 @@ enum class DeformationSolveStatus {
   kConverged,         ///< a tolerance was met; the pending set is the solution
   kMaxIterations,     ///< stopped at max_iterations; the pending set is the last (best) iterate
   kCostRose,          ///< a step increased the cost; the pending set is the previous (best) iterate
-  kNumericalFailure,  ///< non-finite cost or a failed factorisation; no pending set
+  kNumericalFailure,  ///< non-finite cost, a failed factorisation or a pattern beyond capacity; no pending set
   kNoConstraints,     ///< nothing to solve for; no pending set
 };
 
@@ -219,7 +219,8 @@ class DeformationGraph {
   /// Mean and max ‖φ(source) − target‖ over E_con [m].
   std::pair<double, double> constraintErrors(std::span<const double> x) const;
   void linearize(std::span<const double> x);
-  void buildPattern();
+  /// False when the pattern exceeds the solver's capacity.
+  bool buildPattern();
   void addPointTerm(const NodeBinding<double>* bindings, const PointJacobians* J, int count, const Eigen::Vector3d& r,
                     double weight);
 
@@ -240,6 +241,7 @@ class DeformationGraph {
   bool has_pending_ = false;
 
   BlockSparseSystem system_;
+  std::vector<std::pair<int, int>> pattern_pairs_;  ///< the solver's block pattern; reserved at construction
   bool pattern_dirty_ = true;
 };
 

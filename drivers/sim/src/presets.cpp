@@ -174,6 +174,33 @@ CameraAim fastPanAim(double tau, double /*tau_total*/) {
   return aim;
 }
 
+// The loop-closure preset: a walk along the room looking north (−z: bookcase, TV), a turn through west to
+// look south (door, armchair, picture) for the walk back, and a turn through west again to look north where
+// the walk began. The third leg sees the first leg's surfaces again about 23 s later, far beyond the map's
+// time window, after two half turns of odometry drift; the turns go through west so the plain x-max wall,
+// where RGB-D odometry has nothing to hold on to, stays out of the view.
+CameraAim revisitAim(double tau, double /*tau_total*/) {
+  constexpr double kLegS = 9.0;   // walking along the room, one way
+  constexpr double kTurnS = 2.5;  // a half turn, ≈ 1.9 rad/s at its peak
+  constexpr double kEastX_m = 2.0, kWestX_m = 0.0;
+  const double first_turn = smoothStep(tau, kLegS, kTurnS);
+  const double second_turn = smoothStep(tau, 2.0 * kLegS + kTurnS, kTurnS);
+  // The sways repeat after a loop (whole periods per loop), so the third leg starts where the first did.
+  constexpr double kLoopHz = 1.0 / (2.0 * kLegS + 2.0 * kTurnS);
+  // 0 → 1 along the first leg (east to west), back to 0 along the second, towards 1 again along the third.
+  const double westward = smoothStep(tau, 0.0, kLegS) - smoothStep(tau, kLegS + kTurnS, kLegS) +
+                          smoothStep(tau, 2.0 * kLegS + 2.0 * kTurnS, kLegS);
+  CameraAim aim;
+  aim.p_W_m = {kEastX_m + (kWestX_m - kEastX_m) * westward + wave(0.03, 0.31, tau),
+               1.3 + wave(0.1, 3.0 * kLoopHz, tau, 0.4), -0.3 + wave(0.15, kLoopHz, tau, 0.9)};
+  // North is heading π, west 3π/2, south 2π.
+  const double heading =
+      pi + pi * (first_turn - second_turn) + wave(0.15, 3.0 * kLoopHz, tau) + wave(0.03, 8.0 * kLoopHz, tau, 0.6);
+  aim.forward_W = direction(heading, wave(0.08, 0.13, tau, 1.1));
+  aim.roll_rad = wave(0.04, 0.21, tau);
+  return aim;
+}
+
 PresetSpec spec(std::string_view name) {
   constexpr PresetTraits kFast{.fit_subsample = kDefaultFitSubsample, .motion_blur = true};
   // Turns and ramps of about a second need denser knots than 3 Hz, which missed unmapped_turn's 1.4 s turn
@@ -186,6 +213,7 @@ PresetSpec spec(std::string_view name) {
   if (name == "long") return {60.0, 3.0, longAim, {}};
   if (name == "unmapped_turn") return {16.0, 2.5, unmappedTurnAim, kTurn};
   if (name == "fast_pan") return {14.0, 0.7, fastPanAim, kRamp};
+  if (name == "revisit") return {35.0, 2.5, revisitAim, {}};
   std::string known;
   for (const std::string_view n : presetNames()) known += (known.empty() ? "" : ", ") + std::string(n);
   throw Error("unknown simulation preset '" + std::string(name) + "' (known: " + known + ")");
@@ -194,7 +222,7 @@ PresetSpec spec(std::string_view name) {
 }  // namespace
 
 std::vector<std::string_view> presetNames() {
-  return {"fast", "quick_rotation", "white_wall", "long", "unmapped_turn", "fast_pan"};
+  return {"fast", "quick_rotation", "white_wall", "long", "unmapped_turn", "fast_pan", "revisit"};
 }
 
 PresetTraits presetTraits(std::string_view name) { return spec(name).traits; }

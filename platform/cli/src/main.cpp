@@ -73,7 +73,9 @@ int main(int argc, char** argv) {
   vifusion::cli::SimOptions sim;
   CLI::App* sim_command = app.add_subcommand(
       "sim", "Write a synthetic RGB-D-inertial dataset: spline ground truth, simulated IMU, rendered living room");
-  sim_command->add_option("--preset", sim.preset, "living_room_0..3, fast, quick_rotation, white_wall or long");
+  sim_command->add_option(
+      "--preset", sim.preset,
+      "living_room_0..3, fast, quick_rotation, white_wall, long, unmapped_turn, fast_pan or revisit");
   sim_command->add_option("--trajectory", sim.trajectory, "Camera path as a TUM pose file (T_world_camera)");
   sim_command->add_option("--out", sim.out, "Dataset directory to create")->required();
   sim_command->add_option("--seed", sim.seed, "Random seed: same seed, same dataset")->capture_default_str();

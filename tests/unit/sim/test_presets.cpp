@@ -170,6 +170,33 @@ TEST(Presets, FastPanLeavesTheFirstViewAtOnce) {
   EXPECT_LT(quarter_turn_s, 1.2);
 }
 
+TEST(Presets, RevisitComesBackToItsFirstViewLongAfterTheTimeWindow) {
+  const PresetFigures f = measure("revisit");
+  expectInsideIclNuimBox(f, "revisit");
+  EXPECT_NEAR(f.duration_s, 35.0, 1e-6);
+  EXPECT_LT(f.peak_speed_mps, 0.5);
+  EXPECT_LT(f.peak_rate_rad_s, 3.0);
+  // The third leg passes the first view again; both turns keep away from the plain x-max wall.
+  const std::vector<StampedPose> poses = presetCameraPoses("revisit");
+  const SE3d first = poses.front().T_world_body;
+  double left_first_view_s = 0.0, back_at_first_view_s = -1.0, most_east = -1.0;
+  for (const StampedPose& pose : poses) {
+    const Eigen::Vector3d forward_W = pose.T_world_body.quaternion() * Eigen::Vector3d::UnitZ();
+    most_east = std::max(most_east, forward_W.x());
+    const bool near_first = (pose.T_world_body.translation() - first.translation()).norm() < 0.2 &&
+                            pose.T_world_body.quaternion().angularDistance(first.quaternion()) < 0.3;
+    const double t_s = nsToSeconds(pose.t_ns);
+    if (near_first && t_s < 15.0) left_first_view_s = t_s;
+    if (near_first && t_s > 15.0 && back_at_first_view_s < 0.0) back_at_first_view_s = t_s;
+  }
+  EXPECT_LT(most_east, 0.3) << "never looks at the plain wall";
+  // The map's time window is 200 frames (6.7 s at 30 Hz): the first view is left within seconds and seen
+  // again far beyond the window.
+  EXPECT_LT(left_first_view_s, 5.0);
+  EXPECT_GT(back_at_first_view_s, 20.0);
+  EXPECT_LT(back_at_first_view_s, 30.0);
+}
+
 TEST(Presets, AllStartAndEndAtRestAt30Hz) {
   // At rest: the first and last frame periods move less than 20 µm (0.6 mm/s; fast_pan's 0.4 s ramp moves
   // 4 µm, the others' 2.5–3 s ramps < 1 µm).

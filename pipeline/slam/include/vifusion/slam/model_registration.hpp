@@ -20,8 +20,7 @@
 //                for the pixels' correlation, as DenseTermsOptions does) move a point at the far end of the
 //                depth range by σ_p = √(σ_r² + z_far²·σ_θ²) ≤ max_pose_to_depth_sigma · σ_z(z_far): the
 //                correction is known to the sensor's own noise there, so deforming the map by it adds no more
-//                error than fusing one more frame (the bound of slam/tracking_state.hpp's IMU-carried frames;
-//                25.8 mm at 4 m with the Kinect model);
+//                error than fusing one more frame (the bound of slam/tracking_state.hpp's IMU-carried frames);
 //   correction   the correction within max_correction_m / max_correction_rad: local closure corrects drift
 //                since the surfaces went inactive, and ICP from the identity has no wider basin anyway.
 //

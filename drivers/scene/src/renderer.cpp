@@ -148,7 +148,10 @@ void Renderer::renderImpl(std::span<const SE3d> T_W_C_samples, const PinholeCame
             }
           };
           if (!rgb.empty()) std::fill(colour_sums.begin(), colour_sums.end(), Albedo::Zero());
-          for (std::size_t i = 0; i < samples; ++i) {
+          // Depth alone needs only its own sub-frame: the others would cast rays for nothing.
+          const std::size_t first_sample = rgb.empty() ? depth_sample : 0;
+          const std::size_t end_sample = rgb.empty() ? depth_sample + 1 : samples;
+          for (std::size_t i = first_sample; i < end_sample; ++i) {
             const RayFrame& frame = frames[i];
             // Rolling window over the rows v − 1, v, v + 1 (only v without edge finding).
             HitRow* above = &rows[0];

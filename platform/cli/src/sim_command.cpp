@@ -52,7 +52,8 @@ std::vector<sim::StampedPose> cameraPath(const SimOptions& options) {
   } else if (!options.preset.empty()) {
     poses = sim::presetCameraPoses(options.preset);
   } else if (!options.trajectory.empty()) {
-    for (const eval::StampedPose& pose : eval::readTum(options.trajectory)) poses.push_back({pose.t_ns, pose.T_world_body});
+    for (const eval::StampedPose& pose : eval::readTum(options.trajectory))
+      poses.push_back({pose.t_ns, pose.T_world_body});
   } else {
     throw Error("give --preset NAME or --trajectory FILE");
   }
@@ -60,8 +61,11 @@ std::vector<sim::StampedPose> cameraPath(const SimOptions& options) {
 }
 
 nlohmann::json residualsJson(const sim::FitResiduals& r) {
-  return {{"poses", r.count}, {"rms_position_mm", r.rms_position_mm}, {"max_position_mm", r.max_position_mm},
-          {"rms_rotation_deg", r.rms_rotation_deg}, {"max_rotation_deg", r.max_rotation_deg}};
+  return {{"poses", r.count},
+          {"rms_position_mm", r.rms_position_mm},
+          {"max_position_mm", r.max_position_mm},
+          {"rms_rotation_deg", r.rms_rotation_deg},
+          {"max_rotation_deg", r.max_rotation_deg}};
 }
 
 }  // namespace
@@ -111,7 +115,8 @@ int runSim(const SimOptions& options) {
   datasets::writeCalibrationYaml(std::filesystem::path(options.out) / "calibration.yaml", calibration);
 
   // Images at 30 Hz along the spline; stamps on whole microseconds so TUM text files hold them exactly.
-  const int blur_samples = options.motion_blur_samples >= 0 ? options.motion_blur_samples : (traits.motion_blur ? 5 : 0);
+  const int blur_samples =
+      options.motion_blur_samples >= 0 ? options.motion_blur_samples : (traits.motion_blur ? 5 : 0);
   constexpr int64_t kExposureNs = 10'000'000;  // sub-frame renders span 10 ms around the frame time
   scene::LivingRoom room;
   scene::RowPool pool;
@@ -130,11 +135,9 @@ int runSim(const SimOptions& options) {
   // Noisy depth comes from the sensor's native resolution (sensor_resolution.hpp), colour from `camera`.
   const int subsampling = scene::sensorSubsampling(camera);
   const PinholeCamera sensor_camera = scene::sensorCamera(camera, subsampling);
-  Image<Rgb8> sensor_rgb;
   Image<float> sensor_depth_m;
   Image<uint16_t> sensor_depth;
   if (subsampling > 1) {
-    sensor_rgb.resize(sensor_camera.width, sensor_camera.height);
     sensor_depth_m.resize(sensor_camera.width, sensor_camera.height);
     sensor_depth.resize(sensor_camera.width, sensor_camera.height);
   }
@@ -147,13 +150,15 @@ int runSim(const SimOptions& options) {
     const int64_t t_ns = (fit.first_pose_ns + k * kFramePeriodNs) / 1000 * 1000;
     for (std::size_t i = 0; i < sub_frame_poses.size(); ++i) {
       const int64_t offset_ns =
-          sub_frame_poses.size() == 1 ? 0
-                                      : static_cast<int64_t>((static_cast<double>(i) / (sub_frame_poses.size() - 1) - 0.5) * kExposureNs);
+          sub_frame_poses.size() == 1
+              ? 0
+              : static_cast<int64_t>((static_cast<double>(i) / (sub_frame_poses.size() - 1) - 0.5) * kExposureNs);
       const int64_t t_sample = std::clamp(t_ns + offset_ns, fit.spline_W_S.startTimeNs(), fit.spline_W_S.endTimeNs());
       sub_frame_poses[i] = fit.cameraPose(t_sample);
     }
     if (options.noise && subsampling > 1) {
-      renderer.renderBlurred(sub_frame_poses, sensor_camera, sensor_rgb.view(), sensor_depth_m.view());
+      // Depth only at the native resolution: colour there would be rendered and thrown away.
+      renderer.renderBlurred(sub_frame_poses, sensor_camera, ImageView<Rgb8>{}, sensor_depth_m.view());
       noise.addDepthNoise(sensor_depth_m.view(), sensor_depth.view(), static_cast<uint64_t>(k));
       scene::subsampleDepth(sensor_depth.view(), subsampling, depth.view());
       renderer.renderBlurred(sub_frame_poses, camera, rgb.view(), depth_m.view());
@@ -172,18 +177,17 @@ int runSim(const SimOptions& options) {
   const double render_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - render_start).count();
   const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  nlohmann::json summary = {
-      {"out", options.out},
-      {"frames", frames},
-      {"imu_samples", imu.samples.size()},
-      {"duration_s", nsToSeconds(t_end_ns - fit.first_pose_ns)},
-      {"fit_at_samples", residualsJson(fit.at_samples)},
-      {"fit_at_all_poses", residualsJson(fit.at_all_poses)},
-      {"gyro_clipped_samples", imu.gyro_clipped_samples},
-      {"accel_clipped_samples", imu.accel_clipped_samples},
-      {"motion_blur_samples", blur_samples},
-      {"render_frames_per_s", static_cast<double>(frames) / render_s},
-      {"wall_time_s", total_s}};
+  nlohmann::json summary = {{"out", options.out},
+                            {"frames", frames},
+                            {"imu_samples", imu.samples.size()},
+                            {"duration_s", nsToSeconds(t_end_ns - fit.first_pose_ns)},
+                            {"fit_at_samples", residualsJson(fit.at_samples)},
+                            {"fit_at_all_poses", residualsJson(fit.at_all_poses)},
+                            {"gyro_clipped_samples", imu.gyro_clipped_samples},
+                            {"accel_clipped_samples", imu.accel_clipped_samples},
+                            {"motion_blur_samples", blur_samples},
+                            {"render_frames_per_s", static_cast<double>(frames) / render_s},
+                            {"wall_time_s", total_s}};
   if (!options.quiet) std::printf("%s\n", summary.dump().c_str());
   return 0;
 }

@@ -204,6 +204,11 @@ TEST(Renderer, MotionBlurAveragesColourAndTakesDepthFromTheMiddleSample) {
   }
   EXPECT_GT(differs, 10000);  // the blur is visible
 
+  // Depth alone (the sensor-resolution render of `vifusion sim`) is the same middle-sample depth.
+  Image<std::uint16_t> depth_alone(640, 480);
+  renderer.renderBlurred(samples, camera, {}, depth_alone.view());
+  EXPECT_TRUE(std::equal(depth_alone.data(), depth_alone.data() + depth_alone.pixelCount(), middle_depth.data()));
+
   // One sample is a plain render.
   Image<Rgb8> single(640, 480);
   renderer.renderBlurred(std::span(&middle, 1), camera, single.view(), ImageView<std::uint16_t>{});

@@ -99,7 +99,7 @@ DeformationGraph::DeformationGraph(const DeformationGraphOptions& options) : opt
   pattern_pairs_.reserve(edges_.capacity() + static_cast<std::size_t>(options_.max_constraints) * kPairsPerConstraint);
 }
 
-void DeformationGraph::build(std::span<const NodeSample> samples) {
+void DeformationGraph::build(std::span<const NodeSample> samples, std::uint32_t free_from_time) {
   const auto n = static_cast<std::int64_t>(samples.size());
   const std::int64_t max_nodes = options_.max_nodes;
   const std::int64_t stride = std::max<std::int64_t>(options_.sample_stride, (n + max_nodes - 1) / max_nodes);
@@ -134,6 +134,8 @@ void DeformationGraph::build(std::span<const NodeSample> samples) {
     times_[static_cast<std::size_t>(i)] = s.time;
     committed_.segment<kNodeParamDim>(kNodeParamDim * i) = identityNodeParams<double>();
   }
+  first_free_node_ =
+      static_cast<int>(std::lower_bound(times_.begin(), times_.begin() + node_count_, free_from_time) - times_.begin());
   for (int l = 0; l < node_count_; ++l) {
     for (int n_idx = l - options_.neighbours_per_side; n_idx <= l + options_.neighbours_per_side; ++n_idx) {
       if (n_idx != l && n_idx >= 0 && n_idx < node_count_) edges_.emplace_back(l, n_idx);
@@ -315,23 +317,33 @@ void DeformationGraph::addPointTerm(const NodeBinding<double>* bindings, const P
     const auto ka = static_cast<std::size_t>(sa % kBoundNodes);
     const int na = bindings[ba].node[ka];
     const NodeJacobian& Ja = J[ba][ka];
-    system_.addGradient(na, weight * Ja.transpose() * r);
+    addGradient(na, weight * Ja.transpose() * r);
     for (int sb = 0; sb < count * kBoundNodes; ++sb) {
       const int bb = sb / kBoundNodes;
       const auto kb = static_cast<std::size_t>(sb % kBoundNodes);
       const int nb = bindings[bb].node[kb];
       if (na > nb) continue;
-      system_.addBlock(na, nb, weight * Ja.transpose() * J[bb][kb]);
+      addBlock(na, nb, weight * Ja.transpose() * J[bb][kb]);
     }
   }
 }
 
+void DeformationGraph::addBlock(int i, int j, const Matrix12d& H_block) {
+  if (i >= first_free_node_ && j >= first_free_node_) system_.addBlock(i, j, H_block);
+}
+
+void DeformationGraph::addGradient(int i, const Vector12d& b_block) {
+  if (i >= first_free_node_) system_.addGradient(i, b_block);
+}
+
 void DeformationGraph::linearize(std::span<const double> x) {
   system_.setZero();
+  // A held node's row is I·δ = 0: its parameters are constants to every term that touches it.
+  for (int i = 0; i < first_free_node_; ++i) system_.addBlock(i, i, Matrix12d::Identity());
   const auto positions = nodePositions();
   const auto nodeParams = [&](int i) { return NodeParams(Eigen::Map<const NodeParams>(x.data() + kNodeParamDim * i)); };
   const bool imu = options_.use_gravity_term && options_.weight_imu > 0.0;
-  for (int i = 0; i < node_count_; ++i) {
+  for (int i = first_free_node_; i < node_count_; ++i) {
     const NodeParams xi = nodeParams(i);
     RotJacobian J_rot;
     const RotResidual r_rot = rotResidual(xi, &J_rot);
@@ -343,8 +355,8 @@ void DeformationGraph::linearize(std::span<const double> x) {
       H += options_.weight_imu * J_imu.transpose() * J_imu;
       b += options_.weight_imu * J_imu.transpose() * r_imu;
     }
-    system_.addBlock(i, i, H);
-    system_.addGradient(i, b);
+    addBlock(i, i, H);
+    addGradient(i, b);
   }
   const double w_reg = options_.weight_reg;
   for (const auto& [l, n] : edges_) {
@@ -352,11 +364,11 @@ void DeformationGraph::linearize(std::span<const double> x) {
     NodeJacobian J_n;
     const Eigen::Vector3d r = regResidual(positions[static_cast<std::size_t>(l)], nodeParams(l),
                                           positions[static_cast<std::size_t>(n)], nodeParams(n), &J_l, &J_n);
-    system_.addBlock(l, l, w_reg * J_l.transpose() * J_l);
-    system_.addBlock(n, n, w_reg * J_n.transpose() * J_n);
-    system_.addBlock(l, n, w_reg * J_l.transpose() * J_n);
-    system_.addGradient(l, w_reg * J_l.transpose() * r);
-    system_.addGradient(n, w_reg * J_n.transpose() * r);
+    addBlock(l, l, w_reg * J_l.transpose() * J_l);
+    addBlock(n, n, w_reg * J_n.transpose() * J_n);
+    addBlock(l, n, w_reg * J_l.transpose() * J_n);
+    addGradient(l, w_reg * J_l.transpose() * r);
+    addGradient(n, w_reg * J_n.transpose() * r);
   }
   const double w_con = options_.weight_con;
   for (const Constraint& k : constraints_) {

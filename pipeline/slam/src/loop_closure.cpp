@@ -188,18 +188,24 @@ ClosureReport LoopClosure::deform(const SE3d& T_W_C, std::uint32_t frame, const 
                                   ClosureReport report) {
   sampling_->sample();
   const std::size_t nodes = sampling_->readNodeSamples(node_samples_);
-  graph_->build(std::span<const loop::NodeSample>(node_samples_.data(), nodes));
+  graph_->build(std::span<const loop::NodeSample>(node_samples_.data(), nodes), last_accepted_frame_);
   graph_->setGravity(options_.gravity_term && g_W ? *g_W : Eigen::Vector3d::Zero());
   report.nodes = graph_->nodeCount();
 
-  // The active surfels go where the registration puts them: p' = T_W_C·T_inactive_active·T_C_W·p.
+  // The active surfels mapped since the last accepted closure go where the registration puts them:
+  // p' = T_W_C·T_inactive_active·T_C_W·p. Older active ones were corrected by that closure (or reactivated by it
+  // from the old map) and stay, as their nodes do (graph build above).
   active_gather_->gather();
   inactive_gather_->gather();
   const SE3d T_correction = T_W_C * report.registration.T_inactive_active * T_W_C.inverse();
   for (const map::GatheredPoint& p : active_gather_->points()) {
     if (!p.valid) continue;
     const Eigen::Vector3d source = p.position().cast<double>();
-    graph_->addConstraint(source, p.created_frame, T_correction * source);
+    if (p.created_frame >= last_accepted_frame_) {
+      graph_->addConstraint(source, p.created_frame, T_correction * source);
+    } else {
+      graph_->addPin(source, p.created_frame);
+    }
   }
   for (const map::GatheredPoint& q : inactive_gather_->points()) {
     if (!q.valid) continue;
@@ -230,6 +236,7 @@ ClosureReport LoopClosure::deform(const SE3d& T_W_C, std::uint32_t frame, const 
   inactive_->setView(T_W_C_new.inverse(), frame);
   render_inactive_[map_.current()]->run();
   reactivation_->apply(frame);
+  last_accepted_frame_ = frame;
   report.outcome = ClosureOutcome::kAccepted;
   return report;
 }

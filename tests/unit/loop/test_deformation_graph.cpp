@@ -389,5 +389,57 @@ TEST(DeformationGraph, PosesAndNormalsFollowARigidCorrection) {
   EXPECT_MATRIX_NEAR(graph.deformNormal(n, s.p_W, s.time), R * n, 1e-4);
 }
 
+TEST(DeformationGraph, NodesCreatedBeforeTheFreeTimeAreHeld) {
+  // A second closure after one at frame 300: constraints on the newest surfels ask for the same rigid motion as
+  // above, pins sit on the oldest ones. Held, the map before frame 300 stays exactly where the first closure
+  // put it; free (the default), the regularisers alone decide where it goes, and it moves.
+  constexpr std::uint32_t kLastClosureFrame = 300;
+  const std::vector<NodeSample> surfels = roomSurfels();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(1.0 * kDegToRad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d tau(0.01, 0.01, 0.0);
+  const auto constrain = [&](DeformationGraph& graph) {
+    for (std::size_t i = 0; i < surfels.size(); i += 40) {
+      const NodeSample& p = surfels[i];
+      if (p.time >= 540) graph.addConstraint(p.p_W, p.time, R * p.p_W + tau);
+      if (p.time < 60) graph.addPin(p.p_W, p.time);
+    }
+    const DeformationSolveResult result = graph.solve();
+    ASSERT_TRUE(result.hasSolution());
+    EXPECT_LT(result.mean_constraint_error_after_m, 1e-3);
+    graph.commit();
+  };
+  const auto maxMoveBefore = [&](const DeformationGraph& graph, std::uint32_t time) {
+    double max_m = 0.0;
+    for (const NodeSample& p : surfels) {
+      if (p.time < time) max_m = std::max(max_m, (graph.deformPoint(p.p_W, p.time) - p.p_W).norm());
+    }
+    return max_m;
+  };
+
+  DeformationGraph held;
+  held.build(surfels, kLastClosureFrame);
+  ASSERT_GT(held.firstFreeNode(), 0);
+  ASSERT_LT(held.firstFreeNode(), held.nodeCount());
+  EXPECT_LT(held.nodeTimes()[static_cast<std::size_t>(held.firstFreeNode() - 1)], kLastClosureFrame);
+  EXPECT_GE(held.nodeTimes()[static_cast<std::size_t>(held.firstFreeNode())], kLastClosureFrame);
+  constrain(held);
+  // The binding window of a point just before the free time reaches free nodes: a margin of one window.
+  constexpr std::uint32_t kBindingMargin = 30;
+  EXPECT_LT(maxMoveBefore(held, kLastClosureFrame - kBindingMargin), 1e-12);  // identity up to rounding
+  for (int i = 0; i < held.firstFreeNode(); ++i) {
+    const auto params = held.parameters().subspan(static_cast<std::size_t>(kNodeParamDim * i), kNodeParamDim);
+    const NodeParams identity = identityNodeParams<double>();
+    EXPECT_TRUE(std::equal(params.begin(), params.end(), identity.data())) << "held node " << i;
+  }
+
+  DeformationGraph free;
+  free.build(surfels);
+  EXPECT_EQ(free.firstFreeNode(), 0);
+  constrain(free);
+  std::printf("map before frame %u moved by at most %.2f mm with free nodes\n", kLastClosureFrame - kBindingMargin,
+              1e3 * maxMoveBefore(free, kLastClosureFrame - kBindingMargin));
+  EXPECT_GT(maxMoveBefore(free, kLastClosureFrame - kBindingMargin), 1e-3);
+}
+
 }  // namespace
 }  // namespace vifusion::loop

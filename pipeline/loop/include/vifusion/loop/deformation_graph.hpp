@@ -154,10 +154,17 @@ class DeformationGraph {
   /// (Re)builds the nodes from map samples in any order (e.g. the surfel buffer's): every stride-th sample
   /// (stride from the options), sorted by time (ties by input order, so the result is deterministic), with
   /// temporal-neighbour edges. Clears the constraints and resets the deformation to identity.
+  ///
+  /// Nodes created before `free_from_time` (a frame index; 0: none) are held at the identity by solve(): after
+  /// a closure has corrected the map up to its frame, a later one moves only what was mapped since
+  /// (ElasticFusion's rule for every local closure after the first). Without it each closure's few constraints
+  /// leave the old map's nodes to the regularisers alone, and they drift a little at every closure.
   /// @throws vifusion::Error when fewer than kBoundNodes + 1 nodes result or a sample is not finite.
-  void build(std::span<const NodeSample> samples);
+  void build(std::span<const NodeSample> samples, std::uint32_t free_from_time = 0);
 
   int nodeCount() const { return node_count_; }
+  /// Nodes [0, firstFreeNode()) are held (created before build()'s free_from_time); the rest are solved for.
+  int firstFreeNode() const { return first_free_node_; }
   /// Node positions g_i in W [m] and times, sorted by time.
   std::span<const Eigen::Vector3d> nodePositions() const;
   std::span<const std::uint32_t> nodeTimes() const;
@@ -219,6 +226,9 @@ class DeformationGraph {
   /// Mean and max ‖φ(source) − target‖ over E_con [m].
   std::pair<double, double> constraintErrors(std::span<const double> x) const;
   void linearize(std::span<const double> x);
+  /// system_'s addBlock/addGradient, skipping held nodes (firstFreeNode()).
+  void addBlock(int i, int j, const Matrix12d& H_block);
+  void addGradient(int i, const Vector12d& b_block);
   /// False when the pattern exceeds the solver's capacity.
   bool buildPattern();
   void addPointTerm(const NodeBinding<double>* bindings, const PointJacobians* J, int count, const Eigen::Vector3d& r,
@@ -226,6 +236,7 @@ class DeformationGraph {
 
   DeformationGraphOptions options_;
   int node_count_ = 0;
+  int first_free_node_ = 0;
   std::vector<Eigen::Vector3d> positions_W_;  ///< capacity max_nodes
   std::vector<std::uint32_t> times_;
   std::vector<int> order_;                  ///< build() scratch: sample indices being sorted

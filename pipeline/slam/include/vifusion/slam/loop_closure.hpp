@@ -8,7 +8,9 @@
 //      (loop/deformation_graph.hpp);
 //   2. constraints on a grid of pixels: each active surfel there goes where the registration puts it
 //      (E_con), each inactive surfel there stays (E_pin), and in the inertial modes the nodes keep gravity's
-//      direction (E_imu, g_W from the estimator's q_I_W);
+//      direction (E_imu, g_W from the estimator's q_I_W). After the first accepted closure, the map created
+//      before the last one is held (its nodes fixed, its active surfels pinned): that closure corrected it,
+//      and a later one moves only what was mapped since (ElasticFusion's rule);
 //   3. the solve must leave the constraints consistent (mean error after ≤ max_constraint_error_m), else the
 //      graph is reverted and the map is left exactly as it was (the closure is refused and reported);
 //   4. an accepted deformation moves every surfel and normal on the GPU (map/surfel_deformation.hpp), the
@@ -147,7 +149,8 @@ class LoopClosure {
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> render_inactive_;  ///< per surfel-array parity
   std::vector<loop::NodeSample> node_samples_;                            ///< max_nodes, preallocated
   std::vector<map::GatherPixel> grid_;                                    ///< the constraint grid
-  bool has_deformation_ = false;                                          ///< a closure was accepted: graph_ holds it
+  /// Frame of the last accepted closure (0: none): the map created before it is held by the next closures.
+  std::uint32_t last_accepted_frame_ = 0;
 };
 
 }  // namespace vifusion::slam

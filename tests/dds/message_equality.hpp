@@ -168,6 +168,8 @@ inline void expectSame(const msg::Status& a, const msg::Status& b, const std::st
   EXPECT_EQ(a.lost_frames, b.lost_frames) << path << ".lost_frames";
   EXPECT_EQ(a.imu_issue_frames, b.imu_issue_frames) << path << ".imu_issue_frames";
   EXPECT_EQ(a.imu_carried_frames, b.imu_carried_frames) << path << ".imu_carried_frames";
+  EXPECT_EQ(a.closures_accepted, b.closures_accepted) << path << ".closures_accepted";
+  EXPECT_EQ(a.closures_refused, b.closures_refused) << path << ".closures_refused";
 }
 
 }  // namespace vifusion::dds::test

@@ -77,8 +77,8 @@ SampleMessages::SampleMessages() {
   imu_state_from_variances = makeImuStateFromVariances(t_ns + 6, "world", x, held);
   x.r_W_C = Eigen::Vector3d(1.0 / 3.0, -1e-300, 12345.678);
   x.q_W_C = Eigen::Quaterniond(Eigen::AngleAxisd(-0.7, Eigen::Vector3d(3, -1, 2).normalized()));
-  inertial_odometry = makeInertialOdometry(t_ns + 7, "world", "camera", x, variance, Eigen::Vector3d(0.1, -0.2, 0.3),
-                                           samplePose(0.05, 0.02));
+  inertial_odometry = makeInertialOdometry(t_ns + 7, "world", "camera", SE3d(), x, variance,
+                                           Eigen::Vector3d(0.1, -0.2, 0.3), samplePose(0.05, 0.02));
 
   status.header = makeHeader(t_ns + 5, "vifusion");
   status.heartbeat = std::numeric_limits<std::uint64_t>::max();
@@ -93,6 +93,8 @@ SampleMessages::SampleMessages() {
   status.lost_frames = 42;
   status.imu_issue_frames = 7;
   status.imu_carried_frames = 29;
+  status.closures_accepted = 3;
+  status.closures_refused = 41;
 }
 
 }  // namespace vifusion::dds::test

@@ -183,10 +183,10 @@ TEST(DdsConversions, OdometryPoseCovarianceIsTheStateDiagonalInRosOrder) {
   }
   const msg::Odometry odometry = makeOdometry(0, "map", "camera", SE3d(), Eigen::Vector3d::Zero(),
                                               Eigen::Vector3d::Zero(), covariance, Matrix6d::Zero());
-  EXPECT_EQ(odometry.pose.covariance[0], variance(kIdxR));            // x
-  EXPECT_EQ(odometry.pose.covariance[14], variance(kIdxR + 2));       // z
-  EXPECT_EQ(odometry.pose.covariance[21], variance(kIdxAlpha));       // rx
-  EXPECT_EQ(odometry.pose.covariance[35], variance(kIdxAlpha + 2));   // rz
+  EXPECT_EQ(odometry.pose.covariance[0], variance(kIdxR));           // x
+  EXPECT_EQ(odometry.pose.covariance[14], variance(kIdxR + 2));      // z
+  EXPECT_EQ(odometry.pose.covariance[21], variance(kIdxAlpha));      // rx
+  EXPECT_EQ(odometry.pose.covariance[35], variance(kIdxAlpha + 2));  // rz
   EXPECT_EQ(odometry.pose.covariance[1], 0.0);
 }
 
@@ -203,7 +203,7 @@ TEST(DdsConversions, InertialOdometryTwistIsTheCameraOriginsVelocity) {
                    Eigen::Vector3d(0.03, -0.05, 0.11));
   const Eigen::Vector3d p_C_S = T_S_C.inverse().translation();
   const Vector18d variance = Vector18d::Constant(1e-6);
-  const msg::Odometry odometry = makeInertialOdometry(4, "map", "camera", x, variance, omega_C, T_S_C);
+  const msg::Odometry odometry = makeInertialOdometry(4, "map", "camera", SE3d(), x, variance, omega_C, T_S_C);
 
   // Independently: the camera's origin along the motion, r_W_C(t) = r_W_S(t) − R_W_C(t)·p_C_S with
   // R_W_C(t) = R_W_C·Exp(ω_C t), differentiated centrally.
@@ -232,13 +232,56 @@ TEST(DdsConversions, InertialOdometryTwistCovarianceIsTheVelocityVarianceInTheCa
   Vector18d variance = Vector18d::Zero();
   variance.segment<6>(kIdxR) << 1, 2, 3, 4, 5, 6;
   variance.segment<3>(kIdxV) << 10, 20, 30;
-  const msg::Odometry odometry = makeInertialOdometry(0, "map", "camera", x, variance, Eigen::Vector3d::Zero(), SE3d());
+  const msg::Odometry odometry =
+      makeInertialOdometry(0, "map", "camera", SE3d(), x, variance, Eigen::Vector3d::Zero(), SE3d());
   EXPECT_NEAR(odometry.twist.covariance[0], 10.0, 1e-12);   // C x = I x
   EXPECT_NEAR(odometry.twist.covariance[7], 30.0, 1e-12);   // C y = I z
   EXPECT_NEAR(odometry.twist.covariance[14], 20.0, 1e-12);  // C z = −I y
   EXPECT_NEAR(odometry.twist.covariance[1], 0.0, 1e-12);
   for (int i = 3; i < 6; ++i) EXPECT_EQ(odometry.twist.covariance[7 * i], 0.0) << "angular: unknown";
   for (int i = 0; i < 6; ++i) EXPECT_EQ(odometry.pose.covariance[7 * i], 1.0 + i);
+}
+
+TEST(DdsConversions, InertialOdometryInTheOdomFrameIsTheMapOdometryMovedByMapToOdom) {
+  // After loop closures have moved the map by T_W_O, odometry in O: the pose is T_O_W·T_W_C, the twist (in C) is
+  // unchanged, and the pose covariance turns with R_O_W (position and rotation blocks alike).
+  NavState x;
+  x.q_W_C = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()));
+  x.r_W_C = Eigen::Vector3d(1.0, -2.0, 0.5);
+  x.q_I_W = Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()));
+  x.v_I_S = Eigen::Vector3d(0.3, 0.1, -0.2);
+  const SE3d T_W_O(Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ())),
+                   Eigen::Vector3d(0.05, -0.02, 0.01));
+  Vector18d variance = Vector18d::Zero();
+  variance.segment<6>(kIdxR) << 1, 2, 3, 4, 5, 6;
+  const Eigen::Vector3d omega_C(0.1, -0.2, 0.3);
+  const msg::Odometry in_map = makeInertialOdometry(0, "map", "camera", SE3d(), x, variance, omega_C, SE3d());
+  const msg::Odometry in_odom =
+      makeInertialOdometry(0, "odom", "camera", T_W_O.inverse(), x, variance, omega_C, SE3d());
+  EXPECT_STREQ(in_odom.header.frame_id, "odom");
+  const Eigen::Vector3d r_O_C = T_W_O.inverse() * x.r_W_C;
+  EXPECT_NEAR(in_odom.pose.pose.position.x, r_O_C.x(), 1e-12);
+  EXPECT_NEAR(in_odom.pose.pose.position.y, r_O_C.y(), 1e-12);
+  EXPECT_NEAR(in_odom.pose.pose.position.z, r_O_C.z(), 1e-12);
+  const Eigen::Quaterniond q_O_C = T_W_O.quaternion().conjugate() * x.q_W_C;
+  const Eigen::Quaterniond q(in_odom.pose.pose.orientation.w, in_odom.pose.pose.orientation.x,
+                             in_odom.pose.pose.orientation.y, in_odom.pose.pose.orientation.z);
+  EXPECT_NEAR(std::abs(q.dot(q_O_C)), 1.0, 1e-12);
+  EXPECT_NEAR(in_odom.twist.twist.linear.x, in_map.twist.twist.linear.x, 1e-12);
+  EXPECT_NEAR(in_odom.twist.twist.linear.y, in_map.twist.twist.linear.y, 1e-12);
+  EXPECT_NEAR(in_odom.twist.twist.linear.z, in_map.twist.twist.linear.z, 1e-12);
+  // R_O_W turns W's x onto O's −y and W's y onto O's x: the x and y variances swap, in both blocks.
+  EXPECT_NEAR(in_odom.pose.covariance[0], 2.0, 1e-12);
+  EXPECT_NEAR(in_odom.pose.covariance[7], 1.0, 1e-12);
+  EXPECT_NEAR(in_odom.pose.covariance[14], 3.0, 1e-12);
+  EXPECT_NEAR(in_odom.pose.covariance[21], 5.0, 1e-12);
+  EXPECT_NEAR(in_odom.pose.covariance[28], 4.0, 1e-12);
+  EXPECT_NEAR(in_odom.pose.covariance[35], 6.0, 1e-12);
+  for (int i = 0; i < 36; ++i) {
+    if (i % 7 != 0) {
+      EXPECT_NEAR(in_odom.pose.covariance[i], 0.0, 1e-12) << i;
+    }
+  }
 }
 
 TEST(DdsConversions, PointCloud2DescribesMapPoints) {

@@ -98,7 +98,8 @@ TEST(DdsLoopback, SocketsStayOnLoopback) {
   EXPECT_GE(bound_to_loopback, 1) << "the transmit socket must be bound to 127.0.0.1";
 
   const std::set<int> sockets = udpSocketDescriptors();
-  EXPECT_EQ(static_cast<int>(sockets.size()), participant.confinement().sockets) << participant.confinement().description;
+  EXPECT_EQ(static_cast<int>(sockets.size()), participant.confinement().sockets)
+      << participant.confinement().description;
   EXPECT_EQ(participant.confinement().interface, "lo") << participant.confinement().description;
   for (const int fd : sockets) {
     char device[64] = {};

@@ -4,10 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "vifusion/test/counting_allocations.hpp"
 #include "dds_test_support.hpp"
 #include "vifusion/dds/conversions.hpp"
 #include "vifusion/dds/writer.hpp"
+#include "vifusion/test/counting_allocations.hpp"
 
 namespace vifusion::dds {
 namespace {
@@ -37,7 +37,7 @@ TEST(DdsPublish, AllocatesNothingOfOurs) {
     // The inertial modes' builders (vifusiond's publisher, per frame).
     EXPECT_TRUE(imu_writer.write(makeImuStateFromVariances(t_ns, "world", x, variance)));
     EXPECT_TRUE(odometry_writer.write(
-        makeInertialOdometry(t_ns, "world", "camera", x, variance, Eigen::Vector3d(0, 0, 0.1), T_W_C)));
+        makeInertialOdometry(t_ns, "world", "camera", SE3d(), x, variance, Eigen::Vector3d(0, 0, 0.1), T_W_C)));
     EXPECT_TRUE(map_writer.write(makePointCloud2(t_ns, "world", points)));
   }
   EXPECT_EQ(vifusion::test::heapAllocationCount() - before, 0u);

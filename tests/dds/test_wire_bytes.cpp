@@ -144,18 +144,18 @@ TEST(DdsWireBytes, ImuStateIsXcdr1LittleEndian) {
   const msg::ImuState state = makeImuStateFromVariances(3 * kNsPerSecond + 250, "map", x, variance);
 
   ExpectedBytes expected;
-  expected.raw({0x00, 0x01, 0x00, 0x00});  // CDR_LE; ends on a double, so no padding
-  expected.i32(3).u32(250);                //  0: stamp
-  expected.string("map");                  //  8: length 4 + "map\0" → 16, already a multiple of 8
-  expected.f64(0.5).f64(-0.25).f64(2.0);   // 16: velocity in W
+  expected.raw({0x00, 0x01, 0x00, 0x00});     // CDR_LE; ends on a double, so no padding
+  expected.i32(3).u32(250);                   //  0: stamp
+  expected.string("map");                     //  8: length 4 + "map\0" → 16, already a multiple of 8
+  expected.f64(0.5).f64(-0.25).f64(2.0);      // 16: velocity in W
   expected.f64(0.125).f64(0.0).f64(-0.0625);  // 40: gyro_bias
   expected.f64(-1.5).f64(0.75).f64(4.0);      // 64: accel_bias
   expected.f64(0.0).f64(0.0).f64(-1.0);       // 88: gravity_direction in W
   ASSERT_EQ(expected.offset(), 112u);
-  expected.f64(0.25).f64(0.5).f64(1.0);                       // 112: velocity_covariance
-  expected.f64(1.0 / 1024).f64(2.0 / 1024).f64(3.0 / 1024);   // 136: gyro_bias_covariance
-  expected.f64(8.0).f64(16.0).f64(32.0);                      // 160: accel_bias_covariance
-  expected.f64(-1.0).f64(-1.0).f64(-1.0);                     // 184: gravity_direction_covariance: held
+  expected.f64(0.25).f64(0.5).f64(1.0);                      // 112: velocity_covariance
+  expected.f64(1.0 / 1024).f64(2.0 / 1024).f64(3.0 / 1024);  // 136: gyro_bias_covariance
+  expected.f64(8.0).f64(16.0).f64(32.0);                     // 160: accel_bias_covariance
+  expected.f64(-1.0).f64(-1.0).f64(-1.0);                    // 184: gravity_direction_covariance: held
   ASSERT_EQ(expected.offset(), 208u);
 
   EXPECT_EQ(serialised(topics::kImuState, state), expected.bytes());

@@ -81,7 +81,7 @@ class Echo:
         return code
 
 
-def check_odometry(lines, world="map", camera="camera"):
+def check_odometry(lines, frame="odom", camera="camera"):
     """Fails unless every echoed nav_msgs/Odometry has a finite pose and the right frames, the stamps
     increase and the camera moves at least 1 mm. Returns (metres moved, stamps [s])."""
     positions = []
@@ -95,9 +95,9 @@ def check_odometry(lines, world="map", camera="camera"):
         positions.append(values[:3])
         stamp = message["header"]["stamp"]
         stamps.append(stamp["sec"] + stamp["nanosec"] * 1e-9)
-        if message["header"]["frame_id"] != world or message["child_frame_id"] != camera:
+        if message["header"]["frame_id"] != frame or message["child_frame_id"] != camera:
             fail(f"frame ids are {message['header']['frame_id']} → {message['child_frame_id']}, "
-                 f"expected {world} → {camera}")
+                 f"expected {frame} → {camera}")
     if len(positions) < 2:
         fail(f"{len(positions)} odometry messages: too few to see motion")
     moved = math.dist(positions[0], positions[-1])

@@ -67,13 +67,30 @@ def odometry_only():
         fail(f"vifusiond exited with {code} after SIGTERM")
 
 
+def check_tf(lines):
+    """REP-105: every rt/tf message is map → odom, then odom → camera, stamped alike; without a loop closure (these
+    few seconds have none) map → odom is the identity."""
+    for _, message in lines:
+        transforms = message["transforms"]
+        frames = [(t["header"]["frame_id"], t["child_frame_id"]) for t in transforms]
+        if frames != [("map", "odom"), ("odom", "camera")]:
+            fail(f"rt/tf carries {frames}, expected map → odom → camera")
+        if transforms[0]["header"]["stamp"] != transforms[1]["header"]["stamp"]:
+            fail("rt/tf's two transforms have different stamps")
+        t = transforms[0]["transform"]
+        if any(t["translation"][k] != 0.0 for k in "xyz") or t["rotation"]["w"] != 1.0:
+            fail(f"map → odom is {t} before any loop closure, expected the identity")
+    print(f"rt/tf: {len(lines)} messages map → odom → camera", flush=True)
+
+
 def check_status_command():
     """`vifusion status`, for a person, while the service runs: the status line and the health verdict."""
     for _ in range(5):
         result = subprocess.run([f"{BIN}/vifusion", "status", "--timeout", "3", *ECHO_ARGS],
                                 capture_output=True, text=True, timeout=30)
         summary = re.search(r"^vifusiond: \w+, [\d.]+ frames/s, latency \d+ ms, (\d+) frames \((\d+) lost, "
-                            r"(\d+) IMU-carried, (\d+) without usable IMU\), \d+ surfels, camera ring \d+/\d+ \(\d+ overruns\)",
+                            r"(\d+) IMU-carried, (\d+) without usable IMU\), \d+ surfels, \d+ loop closures \(\d+ refused\), "
+                            r"camera ring \d+/\d+ \(\d+ overruns\)",
                             result.stdout, re.MULTILINE)
         if result.returncode == 0 and summary and "health: OK" in result.stdout:
             print(f"vifusion status:\n{result.stdout}", end="", flush=True)
@@ -87,11 +104,15 @@ def odometry_health():
     monitor = health()
     diagnostics = echo("rt/diagnostics", 0, 25)
     odometry = echo("rt/vifusion/odometry", 10, 40)
+    tf = echo("rt/tf", 10, 40)
     map_chunk = echo("rt/vifusion/map", 1, 40)
     service = daemon(f"{WORK}/odometry", "--map_publish_period_s", "1")
     if odometry.wait(45) != 0:
         fail(f"echo received {len(odometry.lines)} of 10 odometry messages")
     moved, stamps = check_odometry(odometry.lines)
+    if tf.wait(10) != 0:
+        fail(f"echo received {len(tf.lines)} of 10 rt/tf messages")
+    check_tf(tf.lines)
     steps = [b - a for a, b in zip(stamps, stamps[1:])]
     wall = odometry.lines[-1][0] - odometry.lines[0][0]
     rate = (len(stamps) - 1) / wall if wall > 0 else float("inf")

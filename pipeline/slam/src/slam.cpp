@@ -237,6 +237,7 @@ void Slam::closeLoop(FrameResult& result) {
   const SE3d& T_Wnew_Wold = result.closure.T_Wnew_Wold;
   result.T_W_C = T_Wnew_Wold * result.T_W_C;
   T_W_reference_ = result.T_W_C;
+  T_W_O_ = T_Wnew_Wold * T_W_O_;
   if (estimator_ && estimator_->initialised()) {
     estimator_->moveWithMap(T_Wnew_Wold);
     result.state = estimator_->state();
@@ -314,6 +315,7 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
   const map::MapState state = map_->readState(*arena_);
   result.surfels = state.surfel_count;
   result.map_overflow = state.overflow_count;
+  result.T_W_O = T_W_O_;
   result.mapping_ms = msSince(map_start);
   ++frame_index_;
   return result;

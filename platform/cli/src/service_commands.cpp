@@ -31,20 +31,28 @@ dds::ParticipantOptions participantOptions(const DdsSelection& selection) {
 
 const char* levelName(std::uint8_t level) {
   switch (level) {
-    case 0: return "OK";
-    case 1: return "WARN";
-    case 2: return "ERROR";
-    case 3: return "STALE";
+    case 0:
+      return "OK";
+    case 1:
+      return "WARN";
+    case 2:
+      return "ERROR";
+    case 3:
+      return "STALE";
   }
   return "?";
 }
 
 const char* trackingName(std::uint8_t state) {
   switch (static_cast<dds::msg::TrackingState>(state)) {
-    case dds::msg::TrackingState::Ok: return "tracking";
-    case dds::msg::TrackingState::Lost: return "LOST";
-    case dds::msg::TrackingState::Initialising: return "initialising";
-    case dds::msg::TrackingState::ImuCarried: return "IMU-carried";
+    case dds::msg::TrackingState::Ok:
+      return "tracking";
+    case dds::msg::TrackingState::Lost:
+      return "LOST";
+    case dds::msg::TrackingState::Initialising:
+      return "initialising";
+    case dds::msg::TrackingState::ImuCarried:
+      return "IMU-carried";
   }
   return "?";
 }
@@ -77,37 +85,45 @@ int runStatus(const StatusCommandOptions& options) {
     const std::int64_t left_ns = std::max<std::int64_t>(0, deadline_ns - monotonicNowNs());
     status_reader.waitForData(std::min<std::int64_t>(left_ns, 50 * kNsPerMillisecond));
     if (!have_status) {
-      status_reader.take([&](const dds::msg::Status& s) {
-        char line[320];
-        std::snprintf(line, sizeof(line),
-                      "vifusiond: %s, %.1f frames/s, latency %.0f ms, %llu frames (%llu lost, %llu IMU-carried, "
-                      "%llu without usable IMU), %u surfels, camera ring %u/%u (%llu overruns), heartbeat %llu\n",
-                      trackingName(s.tracking_state), static_cast<double>(s.frame_rate_hz),
-                      static_cast<double>(s.latency_ms), static_cast<unsigned long long>(s.frames_processed),
-                      static_cast<unsigned long long>(s.lost_frames),
-                      static_cast<unsigned long long>(s.imu_carried_frames),
-                      static_cast<unsigned long long>(s.imu_issue_frames), s.surfel_count, s.camera_ring.fill,
-                      s.camera_ring.capacity, static_cast<unsigned long long>(s.camera_ring.overruns),
-                      static_cast<unsigned long long>(s.heartbeat));
-        status_text = line;
-        have_status = true;
-      }, 1);
+      status_reader.take(
+          [&](const dds::msg::Status& s) {
+            char line[384];
+            std::snprintf(
+                line, sizeof(line),
+                "vifusiond: %s, %.1f frames/s, latency %.0f ms, %llu frames (%llu lost, %llu IMU-carried, "
+                "%llu without usable IMU), %u surfels, %llu loop closures (%llu refused), camera ring %u/%u "
+                "(%llu overruns), heartbeat %llu\n",
+                trackingName(s.tracking_state), static_cast<double>(s.frame_rate_hz), static_cast<double>(s.latency_ms),
+                static_cast<unsigned long long>(s.frames_processed), static_cast<unsigned long long>(s.lost_frames),
+                static_cast<unsigned long long>(s.imu_carried_frames),
+                static_cast<unsigned long long>(s.imu_issue_frames), s.surfel_count,
+                static_cast<unsigned long long>(s.closures_accepted),
+                static_cast<unsigned long long>(s.closures_refused), s.camera_ring.fill, s.camera_ring.capacity,
+                static_cast<unsigned long long>(s.camera_ring.overruns), static_cast<unsigned long long>(s.heartbeat));
+            status_text = line;
+            have_status = true;
+          },
+          1);
     }
     if (!have_diagnostics) {
-      diagnostics_reader.take([&](const dds::msg::DiagnosticArray& array) {
-        diagnostics_text.clear();
-        all_ok = true;
-        for (std::uint32_t i = 0; i < array.status._length; ++i) {
-          const dds::msg::DiagnosticStatus& s = array.status._buffer[i];
-          all_ok = all_ok && s.level == 0;
-          diagnostics_text += std::string("  ") + levelName(s.level) + "  " + s.name + ": " + s.message + "\n";
-        }
-        have_diagnostics = true;
-      }, 1);
+      diagnostics_reader.take(
+          [&](const dds::msg::DiagnosticArray& array) {
+            diagnostics_text.clear();
+            all_ok = true;
+            for (std::uint32_t i = 0; i < array.status._length; ++i) {
+              const dds::msg::DiagnosticStatus& s = array.status._buffer[i];
+              all_ok = all_ok && s.level == 0;
+              diagnostics_text += std::string("  ") + levelName(s.level) + "  " + s.name + ": " + s.message + "\n";
+            }
+            have_diagnostics = true;
+          },
+          1);
     }
   }
-  std::fputs(have_status ? status_text.c_str() : "vifusiond: no rt/vifusion/status received (not running, or "
-                                                 "another DDS domain/partition?)\n", stdout);
+  std::fputs(have_status ? status_text.c_str()
+                         : "vifusiond: no rt/vifusion/status received (not running, or "
+                           "another DDS domain/partition?)\n",
+             stdout);
   if (have_diagnostics) {
     std::printf("health: %s\n%s", all_ok ? "OK" : "NOT OK", diagnostics_text.c_str());
   } else {

@@ -8,7 +8,8 @@
 namespace vifusion::config {
 
 CommandLine::CommandLine(CLI::App& app) {
-  app.add_option("--config", config_path_, "YAML configuration file (keys as the options below; unknown keys are errors)");
+  app.add_option("--config", config_path_,
+                 "YAML configuration file (keys as the options below; unknown keys are errors)");
   app.add_flag("--dump-config", dump_, "Print the effective configuration as YAML and exit");
   DaemonConfig defaults;
   const std::vector<ConfigKey> keys = configKeys(defaults);

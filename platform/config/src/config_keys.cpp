@@ -29,6 +29,7 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
       {"dds.config", "Cyclone DDS XML: file, file:// URI or inline", &c.dds.config},
       {"dds.partition", "DDS partition (\"\": default, as ROS 2)", &c.dds.partition},
       {"dds.world_frame", "frame_id of the map world", &c.dds.world_frame},
+      {"dds.odom_frame", "frame_id of the odometry frame (REP-105: map -> odom -> camera)", &c.dds.odom_frame},
       {"dds.camera_frame", "frame_id of the camera", &c.dds.camera_frame},
       {"health.period_s", "vifusion-health: judge and publish rt/diagnostics every [s]", &c.health.period_s},
       {"health.heartbeat_stale_s", "vifusion-health: status older than this is STALE [s]", &c.health.heartbeat_stale_s},
@@ -57,9 +58,9 @@ namespace {
 std::string quoted(const std::string& text) {
   // Quote whatever YAML could read as something else (empty, numbers, booleans, special characters).
   const bool plain = !text.empty() && text.find_first_of(":#{}[],&*!|>'\"%@`\n") == std::string::npos &&
-                     text.front() != ' ' && text.back() != ' ' && text.front() != '-' &&
-                     text != "true" && text != "false" && text != "yes" && text != "no" && text != "null" &&
-                     text != "~" && !(std::isdigit(static_cast<unsigned char>(text.front())));
+                     text.front() != ' ' && text.back() != ' ' && text.front() != '-' && text != "true" &&
+                     text != "false" && text != "yes" && text != "no" && text != "null" && text != "~" &&
+                     !(std::isdigit(static_cast<unsigned char>(text.front())));
   if (plain) return text;
   std::string out = "\"";
   for (char ch : text) {

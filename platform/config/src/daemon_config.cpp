@@ -14,12 +14,14 @@ bool positiveFinite(double value) { return std::isfinite(value) && value > 0.0; 
 }  // namespace
 
 void DaemonConfig::validate() const {
-  require(!source.empty(), "key 'source' is empty: give sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR or klg:FILE");
+  require(!source.empty(),
+          "key 'source' is empty: give sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR or klg:FILE");
   require(!out.empty(), "key 'out' is empty: give the state directory for trajectory.txt and map.ply");
   require(mode == "rgbd" || mode == "rgbdi" || mode == "gyro",
           "key 'mode' = '" + mode + "' is unknown: rgbd, rgbdi or gyro");
   require(max_frames >= 0, "key 'max_frames' = " + std::to_string(max_frames) + " must be >= 0 (0: the whole source)");
-  require(frame_ring >= 1 && frame_ring <= 64, "key 'frame_ring' = " + std::to_string(frame_ring) + " must be in 1..64");
+  require(frame_ring >= 1 && frame_ring <= 64,
+          "key 'frame_ring' = " + std::to_string(frame_ring) + " must be in 1..64");
   require(map_capacity >= (1 << 16) && map_capacity <= (1 << 26),
           "key 'map_capacity' = " + std::to_string(map_capacity) + " must be in 65536..67108864 surfels");
   require(std::isfinite(map_publish_period_s) && map_publish_period_s >= 0.0,
@@ -29,8 +31,10 @@ void DaemonConfig::validate() const {
   require(dds.domain <= 232, "key 'dds.domain' = " + std::to_string(dds.domain) + " must be in 0..232");
   require(!dds.config.empty(), "key 'dds.config' is empty: give the Cyclone DDS XML (file or inline)");
   require(dds.partition.find_first_of("*?[]") == std::string::npos, "key 'dds.partition' must not contain * ? [ ]");
-  require(!dds.world_frame.empty() && !dds.camera_frame.empty() && dds.world_frame != dds.camera_frame,
-          "keys 'dds.world_frame' and 'dds.camera_frame' must be non-empty and different");
+  require(!dds.world_frame.empty() && !dds.odom_frame.empty() && !dds.camera_frame.empty() &&
+              dds.world_frame != dds.odom_frame && dds.world_frame != dds.camera_frame &&
+              dds.odom_frame != dds.camera_frame,
+          "keys 'dds.world_frame', 'dds.odom_frame' and 'dds.camera_frame' must be non-empty and different");
   require(positiveFinite(health.period_s) && health.period_s <= 1.0, "key 'health.period_s' must be in (0, 1] s");
   require(positiveFinite(health.heartbeat_stale_s) && health.heartbeat_stale_s >= status_period_s,
           "key 'health.heartbeat_stale_s' must be > 0 and >= status_period_s");

@@ -2,9 +2,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <algorithm>
 #include <fstream>
 #include <set>
 
@@ -38,16 +38,17 @@ class Loader {
                            (suggestion.empty() ? " (known: " + childNames(prefix) + ")"
                                                : " (did you mean '" + suggestion + "'?)"));
       }
-      if (!value.IsScalar()) fail(value, "key '" + path + "' must be " + typeName(*key) + ", got a " +
-                                             (value.IsMap() ? "mapping" : value.IsSequence() ? "list" : "null value"));
+      if (!value.IsScalar())
+        fail(value, "key '" + path + "' must be " + typeName(*key) + ", got a " +
+                        (value.IsMap()        ? "mapping"
+                         : value.IsSequence() ? "list"
+                                              : "null value"));
       parseValue(*key, value.Scalar(), where(value));
     }
   }
 
  private:
-  std::string where(const YAML::Node& node) const {
-    return path_ + ":" + std::to_string(node.Mark().line + 1) + ": ";
-  }
+  std::string where(const YAML::Node& node) const { return path_ + ":" + std::to_string(node.Mark().line + 1) + ": "; }
   [[noreturn]] void fail(const YAML::Node& node, const std::string& message) const {
     throw ConfigError(where(node) + message);
   }

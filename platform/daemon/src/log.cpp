@@ -26,9 +26,12 @@ LogState& state() {
 
 const char* levelName(LogLevel level) {
   switch (level) {
-    case LogLevel::Info: return "info";
-    case LogLevel::Warning: return "warning";
-    case LogLevel::Error: return "error";
+    case LogLevel::Info:
+      return "info";
+    case LogLevel::Warning:
+      return "warning";
+    case LogLevel::Error:
+      return "error";
   }
   return "?";
 }
@@ -42,7 +45,8 @@ void openLog(const std::string& program, const std::string& path) {
   log.path = path;
   if (path.empty()) return;
   log.file = std::fopen(path.c_str(), "a");
-  if (log.file == nullptr) throw Error("log_file '" + path + "' cannot be opened for appending: " + std::strerror(errno));
+  if (log.file == nullptr)
+    throw Error("log_file '" + path + "' cannot be opened for appending: " + std::strerror(errno));
 }
 
 void reopenLog() {

@@ -54,43 +54,50 @@ void Publisher::run() {
 
 void Publisher::publishPose(const PoseResult& result) {
   const char* world = config_.dds.world_frame.c_str();
+  const char* odom = config_.dds.odom_frame.c_str();
   const char* camera = config_.dds.camera_frame.c_str();
-  Eigen::Vector3d v_W_mps = Eigen::Vector3d::Zero();
+  // Odometry is differentiated and published in O, where a loop closure does not make the camera jump.
+  const SE3d T_O_W = result.T_W_O.inverse();
+  const SE3d T_O_C = T_O_W * result.T_W_C;
+  Eigen::Vector3d v_O_mps = Eigen::Vector3d::Zero();
   Eigen::Vector3d omega_C_radps = Eigen::Vector3d::Zero();
   if (have_last_ && result.t_ns > last_.t_ns) {
     const double dt_s = nsToSeconds(result.t_ns - last_.t_ns);
-    v_W_mps = (result.T_W_C.translation() - last_.T_W_C.translation()) / dt_s;
+    v_O_mps = (T_O_C.translation() - last_T_O_C_.translation()) / dt_s;
     // Rotation of the previous camera to this one, expressed in this camera: R_Cprev_C.
-    const Eigen::AngleAxisd delta(last_.T_W_C.quaternion().conjugate() * result.T_W_C.quaternion());
-    omega_C_radps = result.T_W_C.quaternion().conjugate() * last_.T_W_C.quaternion() *
-                    (delta.axis() * delta.angle() / dt_s);
+    const Eigen::AngleAxisd delta(last_T_O_C_.quaternion().conjugate() * T_O_C.quaternion());
+    omega_C_radps = T_O_C.quaternion().conjugate() * last_T_O_C_.quaternion() * (delta.axis() * delta.angle() / dt_s);
   }
   if (!result.inertial) {
     // Placeholder covariance (see publisher.hpp): (1 cm)², (0.01 rad)²; a lost frame's pose is a guess.
-    constexpr double kPlaceholderVariance = 1e-4;  // [m², rad²]
+    constexpr double kPlaceholderVariance = 1e-4;   // [m², rad²]
     constexpr double kNoInformationVariance = 1e6;  // [m², rad²]
-    const Matrix6d pose_covariance = Vector6d::Constant(result.tracking == slam::TrackingState::kLost
-                                                            ? kNoInformationVariance
-                                                            : kPlaceholderVariance)
-                                         .asDiagonal();
-    odometry_.write(dds::makeOdometry(result.t_ns, world, camera, result.T_W_C, v_W_mps, omega_C_radps,
-                                      pose_covariance, Matrix6d::Zero()));
+    const Matrix6d pose_covariance =
+        Vector6d::Constant(result.tracking == slam::TrackingState::kLost ? kNoInformationVariance
+                                                                         : kPlaceholderVariance)
+            .asDiagonal();
+    odometry_.write(
+        dds::makeOdometry(result.t_ns, odom, camera, T_O_C, v_O_mps, omega_C_radps, pose_covariance, Matrix6d::Zero()));
   } else if (velocity_estimated_) {
-    odometry_.write(dds::makeInertialOdometry(result.t_ns, world, camera, result.state, result.state_variance,
+    odometry_.write(dds::makeInertialOdometry(result.t_ns, odom, camera, T_O_W, result.state, result.state_variance,
                                               omega_C_radps, T_S_C_));
   } else {
-    odometry_.write(dds::makeOdometry(result.t_ns, world, camera, result.T_W_C, v_W_mps, omega_C_radps,
-                                      dds::odometryPoseCovariance(result.state_variance), Matrix6d::Zero()));
+    const Matrix6d pose_covariance =
+        dds::rotatePoseCovariance(dds::odometryPoseCovariance(result.state_variance), T_O_W.rotationMatrix());
+    odometry_.write(
+        dds::makeOdometry(result.t_ns, odom, camera, T_O_C, v_O_mps, omega_C_radps, pose_covariance, Matrix6d::Zero()));
   }
   if (result.inertial) {
     imu_state_.write(dds::makeImuStateFromVariances(result.t_ns, world, result.state, result.state_variance));
   }
   pose_.write(dds::makePoseStamped(result.t_ns, world, result.T_W_C));
-  std::array<dds::msg::TransformStamped, 1> transforms = {
-      dds::makeTransformStamped(result.t_ns, world, camera, result.T_W_C)};
+  std::array<dds::msg::TransformStamped, 2> transforms = {
+      dds::makeTransformStamped(result.t_ns, world, odom, result.T_W_O),
+      dds::makeTransformStamped(result.t_ns, odom, camera, T_O_C)};
   tf_.write(dds::makeTfMessage(transforms));
   latency_ms_ = static_cast<float>(nsToSeconds(monotonicNowNs() - result.read_ns) * 1e3);
   last_ = result;
+  last_T_O_C_ = T_O_C;
   have_last_ = true;
 }
 
@@ -118,9 +125,15 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   auto tracking = dds::msg::TrackingState::Initialising;
   if (have_last_) {
     switch (last_.tracking) {
-      case slam::TrackingState::kTracked: tracking = dds::msg::TrackingState::Ok; break;
-      case slam::TrackingState::kImuCarried: tracking = dds::msg::TrackingState::ImuCarried; break;
-      case slam::TrackingState::kLost: tracking = dds::msg::TrackingState::Lost; break;
+      case slam::TrackingState::kTracked:
+        tracking = dds::msg::TrackingState::Ok;
+        break;
+      case slam::TrackingState::kImuCarried:
+        tracking = dds::msg::TrackingState::ImuCarried;
+        break;
+      case slam::TrackingState::kLost:
+        tracking = dds::msg::TrackingState::Lost;
+        break;
     }
   }
   status.tracking_state = static_cast<std::uint8_t>(tracking);
@@ -129,6 +142,8 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.lost_frames = state_.lost_frames.load();
   status.imu_issue_frames = state_.imu_issue_frames.load();
   status.imu_carried_frames = state_.imu_carried_frames.load();
+  status.closures_accepted = state_.closures_accepted.load();
+  status.closures_refused = state_.closures_refused.load();
   status_.write(status);
 }
 
@@ -136,7 +151,7 @@ void Publisher::publishMap(std::int64_t t_ns) {
   points_.clear();
   for (const map::Surfel& surfel : surfels_) {
     if (surfel.position_confidence.w() < map_confidence_threshold_) continue;  // stable surfels, as map.ply
-    const std::uint32_t packed = surfel.packedColour();  // r | g << 8 | b << 16
+    const std::uint32_t packed = surfel.packedColour();                        // r | g << 8 | b << 16
     dds::MapPoint point;
     point.x = surfel.position_confidence.x();
     point.y = surfel.position_confidence.y();

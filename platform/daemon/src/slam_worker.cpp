@@ -9,8 +9,8 @@
 
 namespace vifusion::daemon {
 
-SlamWorker::SlamWorker(slam::Slam& pipeline, const map::MapOptions& map_options,
-                       const SlamWorkerOptions& options, SharedState& state)
+SlamWorker::SlamWorker(slam::Slam& pipeline, const map::MapOptions& map_options, const SlamWorkerOptions& options,
+                       SharedState& state)
     : pipeline_(pipeline), map_options_(map_options), options_(options), state_(state) {
   trajectory_.reserve(options.expected_frames);
   if (options.imu != nullptr) states_.reserve(options.expected_frames);
@@ -29,6 +29,16 @@ void SlamWorker::run() {
       const std::span<const ImuSample> imu =
           options_.imu != nullptr ? options_.imu->samplesThrough(slot.frame.t_ns) : std::span<const ImuSample>();
       const slam::FrameResult result = pipeline_.process(slot.frame, imu);
+      if (result.closure.outcome == slam::ClosureOutcome::kAccepted) {
+        // The map moved: so does the trajectory that built it (frame i is the i-th pose kept).
+        for (std::size_t i = 0; i < trajectory_.size(); ++i) {
+          trajectory_[i].T_world_body =
+              pipeline_.deformPose(trajectory_[i].T_world_body, static_cast<std::uint32_t>(i));
+        }
+        ++state_.closures_accepted;
+      } else if (result.closure.outcome == slam::ClosureOutcome::kRefused) {
+        ++state_.closures_refused;
+      }
       trajectory_.push_back({result.t_ns, result.T_W_C});
       const std::uint64_t processed = state_.frames_processed.load() + 1;
       if (result.lost()) ++state_.lost_frames;
@@ -39,6 +49,7 @@ void SlamWorker::run() {
       output.read_ns = slot.read_ns;
       output.done_ns = monotonicNowNs();
       output.T_W_C = result.T_W_C;
+      output.T_W_O = result.T_W_O;
       output.tracking = result.tracking;
       output.inertial = result.inertial;
       output.imu_issue = result.imu_issue.has_value();
@@ -95,12 +106,12 @@ void SlamWorker::writeOutputs() {
     }
     std::vector<map::Surfel> surfels;
     pipeline_.exportMap(surfels);
-    const std::size_t written = map::writeSurfelPly(options_.out_dir / "map.ply", surfels,
-                                                    map::SurfelPlyOptions::stableOnly(map_options_));
+    const std::size_t written =
+        map::writeSurfelPly(options_.out_dir / "map.ply", surfels, map::SurfelPlyOptions::stableOnly(map_options_));
     const std::string states_text =
         options_.imu != nullptr ? "states.csv (" + std::to_string(states_.size()) + " states), " : "";
-    service::logLine(service::LogLevel::Info, "wrote %s (%zu poses), %smap.ply (%zu surfels)",
-                     trajectory_path.c_str(), trajectory_.size(), states_text.c_str(), written);
+    service::logLine(service::LogLevel::Info, "wrote %s (%zu poses), %smap.ply (%zu surfels)", trajectory_path.c_str(),
+                     trajectory_.size(), states_text.c_str(), written);
   } catch (const std::exception& error) {
     service::logLine(service::LogLevel::Error, "cannot write the outputs: %s", error.what());
     state_.fail(config::kExitOutput);

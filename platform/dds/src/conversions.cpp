@@ -141,9 +141,16 @@ Matrix6d odometryPoseCovariance(const Vector18d& variance) {
   return covariance;
 }
 
-msg::Odometry makeInertialOdometry(std::int64_t t_ns, const char* world_frame_id, const char* camera_frame_id,
-                                   const NavState& x, const Vector18d& variance, const Eigen::Vector3d& omega_C_radps,
-                                   const SE3d& T_S_C) {
+Matrix6d rotatePoseCovariance(const Matrix6d& covariance, const Eigen::Matrix3d& R_new_old) {
+  Matrix6d R = Matrix6d::Zero();
+  R.topLeftCorner<3, 3>() = R_new_old;
+  R.bottomRightCorner<3, 3>() = R_new_old;
+  return R * covariance * R.transpose();
+}
+
+msg::Odometry makeInertialOdometry(std::int64_t t_ns, const char* odom_frame_id, const char* camera_frame_id,
+                                   const SE3d& T_O_W, const NavState& x, const Vector18d& variance,
+                                   const Eigen::Vector3d& omega_C_radps, const SE3d& T_S_C) {
   const SE3d T_W_C(x.q_W_C, x.r_W_C);
   const Eigen::Matrix3d R_W_C = T_W_C.rotationMatrix();
   const Eigen::Matrix3d R_W_I = x.q_I_W.conjugate().toRotationMatrix();
@@ -152,10 +159,11 @@ msg::Odometry makeInertialOdometry(std::int64_t t_ns, const char* world_frame_id
   const Eigen::Vector3d v_W_C = R_W_I * x.v_I_S - R_W_C * omega_C_radps.cross(p_C_S);
   const Eigen::Matrix3d R_C_I = R_W_C.transpose() * R_W_I;
   Matrix6d twist_covariance = Matrix6d::Zero();
-  twist_covariance.topLeftCorner<3, 3>() =
-      R_C_I * variance.segment<3>(kIdxV).asDiagonal() * R_C_I.transpose();
-  return makeOdometry(t_ns, world_frame_id, camera_frame_id, T_W_C, v_W_C, omega_C_radps,
-                      odometryPoseCovariance(variance), twist_covariance);
+  twist_covariance.topLeftCorner<3, 3>() = R_C_I * variance.segment<3>(kIdxV).asDiagonal() * R_C_I.transpose();
+  // makeOdometry expresses the velocity in C: the same from W or O.
+  return makeOdometry(t_ns, odom_frame_id, camera_frame_id, T_O_W * T_W_C, T_O_W.rotationMatrix() * v_W_C,
+                      omega_C_radps, rotatePoseCovariance(odometryPoseCovariance(variance), T_O_W.rotationMatrix()),
+                      twist_covariance);
 }
 
 std::span<const msg::PointField> mapPointFields() { return kMapPointFields; }

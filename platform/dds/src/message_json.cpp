@@ -250,6 +250,8 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "lost_frames", message.lost_frames);
   field(json, "imu_issue_frames", message.imu_issue_frames);
   field(json, "imu_carried_frames", message.imu_carried_frames);
+  field(json, "closures_accepted", message.closures_accepted);
+  field(json, "closures_refused", message.closures_refused);
   json.endObject();
 }
 

@@ -106,6 +106,10 @@ struct FrameResult {
   /// This frame's loop-closure attempt; kAccepted: T_W_C is already the corrected pose, and the poses of earlier
   /// frames move by Slam::deformPose.
   ClosureReport closure;
+  /// map → odom (REP-105): every accepted closure's camera correction T_W'_W so far, composed (identity before
+  /// the first). T_W_O⁻¹·T_W_C is the odometry pose T_O_C: the pose as if no closure had moved it, continuous from
+  /// frame to frame, while T_W_O jumps at a closure.
+  SE3d T_W_O;
 
   /// Not fused, and the pose is no more than a guess.
   bool lost() const { return tracking == TrackingState::kLost; }
@@ -185,6 +189,7 @@ class Slam {
   /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last
   /// tracked one (the map's view the camera is most likely to come back to).
   SE3d T_W_reference_;
+  SE3d T_W_O_;                ///< FrameResult::T_W_O
   SE3d T_previous_current_;   ///< last motion between two tracked frames: the constant-velocity guess
   int rgbd_lost_frames_ = 0;  ///< RGB-D tracking: lost frames since the last tracked one
   SE3d T_reference_guess_;    ///< during such a run: the pose guessed by continuing the motion, in the reference

@@ -26,9 +26,9 @@ class CommandLine {
  private:
   std::string config_path_;
   bool dump_ = false;
-  std::vector<std::string> paths_;       ///< key paths, in configKeys() order
-  std::vector<std::string> values_;      ///< text given on the command line, per key
-  std::vector<CLI::Option*> options_;    ///< per key
+  std::vector<std::string> paths_;     ///< key paths, in configKeys() order
+  std::vector<std::string> values_;    ///< text given on the command line, per key
+  std::vector<CLI::Option*> options_;  ///< per key
 };
 
 /// Parses argv with CLI11 and resolves the configuration. Returns -1 when the program should go on

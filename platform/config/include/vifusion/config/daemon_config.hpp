@@ -12,11 +12,11 @@ namespace vifusion::config {
 
 /// Exit codes of vifusiond and vifusion-health (README "Running the service").
 inline constexpr int kExitOk = 0;
-inline constexpr int kExitConfig = 2;   ///< bad configuration or command line
-inline constexpr int kExitSource = 3;   ///< the source cannot be opened or read, or lacks the IMU data the mode needs
-inline constexpr int kExitGpu = 4;      ///< no usable Vulkan device, or the pipeline cannot be built
-inline constexpr int kExitDds = 5;      ///< the DDS participant, writers or readers cannot be created
-inline constexpr int kExitOutput = 6;   ///< trajectory.txt or map.ply cannot be written
+inline constexpr int kExitConfig = 2;  ///< bad configuration or command line
+inline constexpr int kExitSource = 3;  ///< the source cannot be opened or read, or lacks the IMU data the mode needs
+inline constexpr int kExitGpu = 4;     ///< no usable Vulkan device, or the pipeline cannot be built
+inline constexpr int kExitDds = 5;     ///< the DDS participant, writers or readers cannot be created
+inline constexpr int kExitOutput = 6;  ///< trajectory.txt or map.ply cannot be written
 
 /// A configuration problem; the message names the key and, for a file, "file:line:".
 class ConfigError : public Error {
@@ -25,21 +25,23 @@ class ConfigError : public Error {
 };
 
 struct DdsConfig {
-  std::uint32_t domain = 0;                            ///< DDS domain id, 0..232
+  std::uint32_t domain = 0;                             ///< DDS domain id, 0..232
   std::string config = "/etc/vifusion/cyclonedds.xml";  ///< Cyclone XML: a file, file:// URI or inline '<…>'
-  std::string partition;                               ///< "" = the default partition (what ROS 2 uses)
-  std::string world_frame = "map";                     ///< frame_id of the map world W
-  std::string camera_frame = "camera";                 ///< frame_id of the camera C
+  std::string partition;                                ///< "" = the default partition (what ROS 2 uses)
+  std::string world_frame = "map";                      ///< frame_id of the map world W
+  /// frame_id of the odometry frame O (REP-105): odom → camera is continuous, map → odom jumps at a loop closure
+  std::string odom_frame = "odom";
+  std::string camera_frame = "camera";  ///< frame_id of the camera C
 };
 
 /// Thresholds of vifusion-health's rules (one diagnostic status per rule).
 struct HealthConfig {
-  double period_s = 0.25;           ///< rules are judged and rt/diagnostics published this often [s]
-  double heartbeat_stale_s = 1.0;   ///< no status message for longer: STALE [s]
-  double min_frame_rate_hz = 5.0;   ///< processed frame rate below this: WARN; zero while running: ERROR [Hz]
-  double lost_error_s = 2.0;        ///< tracking lost for longer: ERROR (shorter: WARN) [s]
-  std::string led_chip;             ///< status LED's gpiochip ("gpiochip0" or a path); "" = no LED
-  std::int64_t led_line = 0;        ///< line offset of the LED on led_chip; lit while every rule is OK
+  double period_s = 0.25;          ///< rules are judged and rt/diagnostics published this often [s]
+  double heartbeat_stale_s = 1.0;  ///< no status message for longer: STALE [s]
+  double min_frame_rate_hz = 5.0;  ///< processed frame rate below this: WARN; zero while running: ERROR [Hz]
+  double lost_error_s = 2.0;       ///< tracking lost for longer: ERROR (shorter: WARN) [s]
+  std::string led_chip;            ///< status LED's gpiochip ("gpiochip0" or a path); "" = no LED
+  std::int64_t led_line = 0;       ///< line offset of the LED on led_chip; lit while every rule is OK
 };
 
 struct DaemonConfig {
@@ -53,9 +55,9 @@ struct DaemonConfig {
   /// Surfels the map holds: its GPU memory, fixed at start (≈ 110 bytes a surfel). When it fills,
   /// the oldest inactive surfels make room (map_maintenance.hpp).
   std::int64_t map_capacity = 2'000'000;
-  double map_publish_period_s = 5.0;         ///< rt/vifusion/map every this many seconds; 0: never
-  double status_period_s = 0.2;              ///< rt/vifusion/status every this many seconds (≥ 1 Hz)
-  std::string log_file;                      ///< log file, reopened on SIGHUP; "" = stderr (the journal)
+  double map_publish_period_s = 5.0;  ///< rt/vifusion/map every this many seconds; 0: never
+  double status_period_s = 0.2;       ///< rt/vifusion/status every this many seconds (≥ 1 Hz)
+  std::string log_file;               ///< log file, reopened on SIGHUP; "" = stderr (the journal)
   DdsConfig dds;
   HealthConfig health;
 

@@ -1,9 +1,14 @@
 #pragma once
 // The publisher thread: reads the output ring and publishes, per frame, rt/vifusion/odometry,
-// rt/vifusion/pose and rt/tf (world → camera), and in the inertial modes rt/vifusion/imu_state; every
+// rt/vifusion/pose and rt/tf, and in the inertial modes rt/vifusion/imu_state; every
 // status_period_s rt/vifusion/status; and each map snapshot as rt/vifusion/map (PointCloud2,
 // transient-local). All messages borrow buffers allocated here at start-up; only a growing map
 // enlarges the point buffer.
+//
+// Frames as REP-105 has them (map → odom → camera): rt/tf carries map → odom (slam::FrameResult::T_W_O, which
+// jumps only when a loop closure moves the map) and odom → camera; rt/vifusion/odometry is in odom, continuous
+// across closures, so a consumer fusing it never sees a closure's jump; rt/vifusion/pose, rt/vifusion/imu_state
+// and rt/vifusion/map are in map, the best estimate now.
 //
 // Odometry twist.angular is always the finite difference of consecutive poses (the estimator has no
 // angular-velocity state). The rest depends on what the frame carries (PoseResult::inertial):
@@ -27,8 +32,8 @@
 #include <string>
 #include <vector>
 
-#include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/config/daemon_config.hpp"
+#include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/dds/conversions.hpp"
 #include "vifusion/dds/participant.hpp"
 #include "vifusion/dds/topics.hpp"
@@ -64,6 +69,7 @@ class Publisher {
 
   std::uint64_t heartbeat_ = 0;
   PoseResult last_{};
+  SE3d last_T_O_C_;  ///< the odometry pose of last_
   bool have_last_ = false;
   float latency_ms_ = 0.0f;
   /// (host time [ns], frames processed) at the last status messages, for a ~1 s frame-rate window.

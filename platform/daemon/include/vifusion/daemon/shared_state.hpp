@@ -26,18 +26,19 @@ struct FrameSlot {
 /// One output ring slot: small and fixed-size (no pointers, no heap), so the hand-off copies a few
 /// hundred bytes. The estimator's state rides along in the inertial modes.
 struct PoseResult {
-  std::int64_t t_ns = 0;        ///< frame stamp (the source's time base) [ns]
-  std::int64_t read_ns = 0;     ///< host time the reader handed the frame over [ns]
-  std::int64_t done_ns = 0;     ///< host time the SLAM thread finished it [ns]
-  SE3d T_W_C;                   ///< camera pose in the map world
+  std::int64_t t_ns = 0;     ///< frame stamp (the source's time base) [ns]
+  std::int64_t read_ns = 0;  ///< host time the reader handed the frame over [ns]
+  std::int64_t done_ns = 0;  ///< host time the SLAM thread finished it [ns]
+  SE3d T_W_C;                ///< camera pose in the map world
+  SE3d T_W_O;                ///< map → odom (slam::FrameResult::T_W_O): moves only at a loop closure
   slam::TrackingState tracking = slam::TrackingState::kTracked;  ///< slam::FrameResult::tracking
   /// Inertial modes: `state` and `state_variance` hold the estimator's state at this frame
   /// (slam::FrameResult::inertial); false in rgbd mode and while the estimator waits to start.
   bool inertial = false;
-  bool imu_issue = false;       ///< this frame's IMU samples were refused (tracked RGB-D only)
-  std::uint32_t surfels = 0;    ///< surfels in the map after this frame
-  std::uint64_t frame_number = 0;  ///< processed frames so far, this one included
-  NavState state;               ///< slam::FrameResult::state (when `inertial`)
+  bool imu_issue = false;                        ///< this frame's IMU samples were refused (tracked RGB-D only)
+  std::uint32_t surfels = 0;                     ///< surfels in the map after this frame
+  std::uint64_t frame_number = 0;                ///< processed frames so far, this one included
+  NavState state;                                ///< slam::FrameResult::state (when `inertial`)
   Vector18d state_variance = Vector18d::Zero();  ///< its marginal variances in δx, 0 = held (when `inertial`)
 };
 // Eigen's types are not formally trivially copyable, but hold their coefficients inline: no member
@@ -80,13 +81,15 @@ struct SharedState {
   SpscRing<PoseResult> results;
   MapHandoff map;
 
-  std::atomic<bool> stop{false};          ///< SIGTERM/SIGINT: finish the current frame and shut down
-  std::atomic<bool> source_done{false};   ///< the reader delivered its last frame (or failed)
-  std::atomic<bool> slam_done{false};     ///< the SLAM thread wrote its files and ended
+  std::atomic<bool> stop{false};         ///< SIGTERM/SIGINT: finish the current frame and shut down
+  std::atomic<bool> source_done{false};  ///< the reader delivered its last frame (or failed)
+  std::atomic<bool> slam_done{false};    ///< the SLAM thread wrote its files and ended
   std::atomic<std::uint64_t> frames_processed{0};
   std::atomic<std::uint64_t> lost_frames{0};
-  std::atomic<std::uint64_t> imu_issue_frames{0};  ///< inertial modes: frames whose IMU samples were refused
+  std::atomic<std::uint64_t> imu_issue_frames{0};    ///< inertial modes: frames whose IMU samples were refused
   std::atomic<std::uint64_t> imu_carried_frames{0};  ///< inertial modes: frames the IMU carried
+  std::atomic<std::uint64_t> closures_accepted{0};   ///< loop closures that deformed the map
+  std::atomic<std::uint64_t> closures_refused{0};    ///< loop-closure attempts a test refused
   std::atomic<int> exit_code{0};
 
   void fail(int code) {

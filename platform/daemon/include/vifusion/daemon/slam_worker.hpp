@@ -23,10 +23,10 @@
 namespace vifusion::daemon {
 
 struct SlamWorkerOptions {
-  std::filesystem::path out_dir;          ///< trajectory.txt, map.ply (and states.csv) go here
-  std::uint64_t max_frames = 0;           ///< 0: until the source ends or stop
-  std::int64_t map_period_ns = 0;         ///< map snapshot period [ns]; 0: never
-  std::size_t expected_frames = 0;        ///< trajectory capacity reserved up front
+  std::filesystem::path out_dir;    ///< trajectory.txt, map.ply (and states.csv) go here
+  std::uint64_t max_frames = 0;     ///< 0: until the source ends or stop
+  std::int64_t map_period_ns = 0;   ///< map snapshot period [ns]; 0: never
+  std::size_t expected_frames = 0;  ///< trajectory capacity reserved up front
   /// Inertial modes: the IMU samples per frame (borrowed; must outlive run()). nullptr: none (rgbd).
   ImuFeed* imu = nullptr;
 };

@@ -72,8 +72,13 @@ msg::ImuState makeImuStateFromVariances(std::int64_t t_ns, const char* world_fra
 /// the estimator reports marginal variances only — the correlations exist but are not published.
 Matrix6d odometryPoseCovariance(const Vector18d& variance);
 
-/// nav_msgs/Odometry of camera C from the estimator's state, for modes that estimate velocity (rgbdi):
-///  - pose T_W_C = (q_W_C, r_W_C), covariance odometryPoseCovariance(variance);
+/// A pose covariance in ROS order (position, then rotation vector, both in the header frame) re-expressed in a
+/// frame turned by R_new_old from the old one: blockdiag(R, R)·Σ·blockdiag(R, R)ᵀ.
+Matrix6d rotatePoseCovariance(const Matrix6d& covariance, const Eigen::Matrix3d& R_new_old);
+
+/// nav_msgs/Odometry of camera C from the estimator's state, for modes that estimate velocity (rgbdi), in the
+/// frame O (header.frame_id: the odometry frame of REP-105) given by T_O_W (identity: the map frame W itself):
+///  - pose T_O_C = T_O_W·(q_W_C, r_W_C), covariance odometryPoseCovariance(variance) turned by R_O_W;
 ///  - twist.linear: the velocity of C's origin, v_W_C = R_W_I·v_I_S − R_W_C·(ω_C × p_C_S), with the
 ///    lever arm p_C_S (S's origin in C, from T_S_C) turned by the angular velocity `omega_C_radps`
 ///    (expressed in C; the state has none, the caller supplies it), then expressed in C as the message
@@ -82,9 +87,9 @@ Matrix6d odometryPoseCovariance(const Vector18d& variance);
 ///    R_C_I·diag(σ²_v)·R_I_C — a full 3×3 block, built on the same no-correlation assumption as above;
 ///    the lever-arm term's and the rotations' own uncertainty are left out (second order). The angular
 ///    block is 0 = unknown: the estimator does not estimate angular velocity.
-msg::Odometry makeInertialOdometry(std::int64_t t_ns, const char* world_frame_id, const char* camera_frame_id,
-                                   const NavState& x, const Vector18d& variance, const Eigen::Vector3d& omega_C_radps,
-                                   const SE3d& T_S_C);
+msg::Odometry makeInertialOdometry(std::int64_t t_ns, const char* odom_frame_id, const char* camera_frame_id,
+                                   const SE3d& T_O_W, const NavState& x, const Vector18d& variance,
+                                   const Eigen::Vector3d& omega_C_radps, const SE3d& T_S_C);
 
 /// One point of a map chunk: nine little-endian float32 fields, 36 bytes (mapPointFields()).
 struct MapPoint {

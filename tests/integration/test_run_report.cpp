@@ -224,6 +224,19 @@ TEST(RunReport, LoopClosureOnTheRevisitDeformsTheMapAndCutsTheAte) {
   EXPECT_GE(closed.at("closures").at("accepted").get<int>(), 1);
   EXPECT_EQ(open.at("closures").at("accepted").get<int>(), 0);
   EXPECT_LE(closed.at("ate_rmse_m").get<double>(), kMaxAteRatio * open.at("ate_rmse_m").get<double>());
+  // Stage timings: every attempt registered, every accepted closure solved and applied.
+  const nlohmann::json& closures = closed.at("closures");
+  const nlohmann::json& stages = closures.at("stages_ms");
+  int refused = 0;
+  for (const auto& [test, count] : closures.at("refused").items()) refused += count.get<int>();
+  const int accepted = closures.at("accepted").get<int>();
+  EXPECT_GE(stages.at("registration").at("count").get<int>(), accepted + refused);
+  EXPECT_GE(stages.at("deformation").at("count").get<int>(), accepted);
+  EXPECT_EQ(stages.at("apply").at("count").get<int>(), accepted);
+  for (const char* stage : {"registration", "deformation", "apply"}) {
+    EXPECT_GT(stages.at(stage).at("mean").get<double>(), 0.0) << stage;
+    EXPECT_LE(stages.at(stage).at("mean").get<double>(), stages.at(stage).at("max").get<double>()) << stage;
+  }
   expectFramesCsvMatchesTheReport(VIFUSION_REVISIT_CLOSED_RUN_DIR, false);
   expectFramesCsvMatchesTheReport(VIFUSION_REVISIT_OPEN_RUN_DIR, false);
 }

@@ -169,6 +169,7 @@ ClosureReport LoopClosure::tryClose(const SE3d& T_W_C, std::uint32_t frame, cons
   inactive_->setView(T_W_C.inverse(), frame);
   render_inactive_[map_.current()]->run();
   report.registration = registration_->align();
+  report.registration_ms = msSince(start);
   if (report.registration.verdict == RegistrationVerdict::kNoOverlap && report.registration.iterations == 0) {
     report.ms = msSince(start);
     return report;  // nothing inactive in view: not an attempt
@@ -186,6 +187,7 @@ ClosureReport LoopClosure::tryClose(const SE3d& T_W_C, std::uint32_t frame, cons
 
 ClosureReport LoopClosure::deform(const SE3d& T_W_C, std::uint32_t frame, const std::optional<Eigen::Vector3d>& g_W,
                                   ClosureReport report) {
+  const auto start = std::chrono::steady_clock::now();
   sampling_->sample();
   const std::size_t nodes = sampling_->readNodeSamples(node_samples_);
   graph_->build(std::span<const loop::NodeSample>(node_samples_.data(), nodes), last_accepted_frame_);
@@ -213,6 +215,7 @@ ClosureReport LoopClosure::deform(const SE3d& T_W_C, std::uint32_t frame, const 
   }
   report.constraints = graph_->constraintCount();
   const loop::DeformationSolveResult solve = graph_->solve();
+  report.deformation_ms = msSince(start);
   report.constraint_error_before_m = solve.mean_constraint_error_before_m;
   report.constraint_error_after_m = solve.mean_constraint_error_after_m;
   if (!solve.hasSolution()) {
@@ -228,6 +231,7 @@ ClosureReport LoopClosure::deform(const SE3d& T_W_C, std::uint32_t frame, const 
     return report;
   }
   graph_->commit();
+  const auto apply_start = std::chrono::steady_clock::now();
   deformation_->setNodes(*graph_);
   deformation_->apply();
   report.T_Wnew_Wold = graph_->deformPose(T_W_C, frame) * T_W_C.inverse();
@@ -237,6 +241,7 @@ ClosureReport LoopClosure::deform(const SE3d& T_W_C, std::uint32_t frame, const 
   render_inactive_[map_.current()]->run();
   reactivation_->apply(frame);
   last_accepted_frame_ = frame;
+  report.apply_ms = msSince(apply_start);
   report.outcome = ClosureOutcome::kAccepted;
   return report;
 }

@@ -44,6 +44,9 @@ double mean(double sum, int count) { return count > 0 ? sum / count : 0.0; }
 class ClosureCounts {
  public:
   void add(const slam::ClosureReport& report) {
+    if (report.registration_ms > 0.0) registration_.add(report.registration_ms);
+    if (report.deformation_ms > 0.0) deformation_.add(report.deformation_ms);
+    if (report.apply_ms > 0.0) apply_.add(report.apply_ms);
     if (report.outcome == slam::ClosureOutcome::kNone) return;
     ms_ = std::max(ms_, report.ms);
     if (report.outcome == slam::ClosureOutcome::kAccepted) {
@@ -54,7 +57,9 @@ class ClosureCounts {
   }
   int accepted() const { return accepted_; }
 
-  /// {"accepted": N, "refused": {"residual": M, …}, "max_ms": T}
+  /// {"accepted": N, "refused": {"residual": M, …}, "max_ms": T, "stages_ms": {"registration": {"count", "mean",
+  /// "max"}, "deformation": …, "apply": …}} (ClosureReport's stages; registration counts every frame that rendered
+  /// the inactive model, attempts that found nothing in view included)
   nlohmann::json json() const {
     nlohmann::json refused = nlohmann::json::object();
     for (int r = 1; r < slam::kClosureRefusals; ++r) {
@@ -62,10 +67,26 @@ class ClosureCounts {
         refused[slam::closureRefusalName(static_cast<slam::ClosureRefusal>(r))] = refused_[static_cast<std::size_t>(r)];
       }
     }
-    return {{"accepted", accepted_}, {"refused", refused}, {"max_ms", ms_}};
+    return {{"accepted", accepted_},
+            {"refused", refused},
+            {"max_ms", ms_},
+            {"stages_ms",
+             {{"registration", registration_.json()}, {"deformation", deformation_.json()}, {"apply", apply_.json()}}}};
   }
 
  private:
+  struct StageTimes {
+    int count = 0;
+    double sum_ms = 0.0;
+    double max_ms = 0.0;
+    void add(double ms) {
+      ++count;
+      sum_ms += ms;
+      max_ms = std::max(max_ms, ms);
+    }
+    nlohmann::json json() const { return {{"count", count}, {"mean", mean(sum_ms, count)}, {"max", max_ms}}; }
+  };
+  StageTimes registration_, deformation_, apply_;
   int accepted_ = 0;
   std::array<int, slam::kClosureRefusals> refused_{};
   double ms_ = 0.0;

@@ -102,6 +102,12 @@ struct ClosureReport {
   double constraint_error_before_m = 0.0;  ///< mean, before the solve
   double constraint_error_after_m = 0.0;   ///< mean, after it
   double ms = 0.0;                         ///< wall time of the attempt (rendering, registration, solve, apply)
+  /// Its stages [ms]: rendering the inactive model and registering (every attempt, also one that finds nothing
+  /// inactive in view); node sampling, graph build and solve (attempts that reached the deformation); moving
+  /// the map on the GPU and reactivating (accepted closures). 0 for a stage not reached.
+  double registration_ms = 0.0;
+  double deformation_ms = 0.0;
+  double apply_ms = 0.0;
   /// kAccepted: the camera's correction, T_W'_W at the camera's pose (deformPose of the camera).
   SE3d T_Wnew_Wold;
 };

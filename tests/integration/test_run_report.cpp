@@ -212,11 +212,10 @@ TEST(RunReport, RgbdInertialTurnsIntoTheUnmappedHalfOfTheRoom) {
 // Issue 16: sim:revisit at 160×120 in rgbd (integration.run_*.revisit): the walk comes back to its first view
 // 23 s later after two half turns. Open loop it arrives with the drift of the way; local loop closure must
 // register the active model against the inactive one there, deform the map and the trajectory, and cut the
-// ATE. Measured on these 800 frames (one run each): open loop 21.2 mm, with closures 12.2 mm (0.58×, 4 accepted;
-// at 320×240 20.2 → 12.1 mm). The bound leaves room for run-to-run differences, not for a closure that does
-// nothing.
+// ATE by at least the issue's factor (its acceptance asks ≤ 0.6× open loop at 640×480); tests/bench/README.md
+// has the measured ratios.
 TEST(RunReport, LoopClosureOnTheRevisitDeformsTheMapAndCutsTheAte) {
-  constexpr double kMaxAteRatio = 0.7;
+  constexpr double kMaxAteRatio = 0.6;
   const nlohmann::json closed = report(VIFUSION_REVISIT_CLOSED_RUN_DIR);
   const nlohmann::json open = report(VIFUSION_REVISIT_OPEN_RUN_DIR);
   EXPECT_EQ(closed.at("lost_frames").get<int>(), 0);

@@ -236,6 +236,12 @@ TEST(RunReport, LoopClosureOnTheRevisitDeformsTheMapAndCutsTheAte) {
     EXPECT_GT(stages.at(stage).at("mean").get<double>(), 0.0) << stage;
     EXPECT_LE(stages.at(stage).at("mean").get<double>(), stages.at(stage).at("max").get<double>()) << stage;
   }
+  // Judged against the ground truth (platform/cli closure_judge.hpp): no accepted closure moved the pose away
+  // from the truth beyond the registration's own 3σ.
+  const nlohmann::json& judged = closed.at("closures_against_ground_truth");
+  EXPECT_EQ(judged.at("judged").get<int>(), accepted);
+  EXPECT_EQ(judged.at("false").get<int>(), 0)
+      << "worst error increase " << judged.at("worst_error_increase_mm").get<double>() << " mm";
   expectFramesCsvMatchesTheReport(VIFUSION_REVISIT_CLOSED_RUN_DIR, false);
   expectFramesCsvMatchesTheReport(VIFUSION_REVISIT_OPEN_RUN_DIR, false);
 }

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "closure_judge.hpp"
 #include "frame_log.hpp"
 #include "progress_bar.hpp"
 #include "sim_command.hpp"
@@ -154,6 +155,7 @@ int runPipeline(const RunOptions& options) {
   RgbdFrame frame;
   TrackingStateCounts states_seen;
   ClosureCounts closures;
+  ClosureJudge closure_judge(reader->groundTruth());
   double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
   uint32_t surfels = 0, map_overflow = 0;
   uint64_t map_evicted = 0;
@@ -168,6 +170,7 @@ int runPipeline(const RunOptions& options) {
       }
     }
     closures.add(result.closure);
+    closure_judge.add(result);
     trajectory.push_back({result.t_ns, result.T_W_C});
     frame_log.add(result);
     if (result.inertial) states.push_back({result.t_ns, result.state, result.state_variance});
@@ -209,6 +212,7 @@ int runPipeline(const RunOptions& options) {
                            {"tracking_states", states_seen.json()},
                            {"loop_closure", options.loop_closure},
                            {"closures", closures.json()},
+                           {"closures_against_ground_truth", closure_judge.json()},
                            {"frames_with_imu_issues", imu_issues},
                            {"ms_per_frame",
                             {{"preprocess", mean(preprocess_ms, frames)},

@@ -192,6 +192,8 @@ TEST(RunReport, RgbdInertialCrossesTheWhiteWall) {
   EXPECT_EQ(inertial.at("lost_frames").get<int>(), 0);
   EXPECT_LT(inertial.at("ate_rmse_m").get<double>(), 0.050);
   EXPECT_GT(rgbd.at("ate_rmse_m").get<double>(), 3.0 * inertial.at("ate_rmse_m").get<double>());
+  // The return to the room closes loops (issue 16): none of them false against the ground truth.
+  EXPECT_EQ(inertial.at("closures_against_ground_truth").at("false").get<int>(), 0);
   expectFramesCsvMatchesTheReport(VIFUSION_WHITE_WALL_RGBDI_RUN_DIR, true, false);
 }
 

@@ -19,6 +19,7 @@
 #include "gpu_test_environment.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/loop/deformation_graph.hpp"
+#include "vifusion/loop/node_binding.hpp"
 #include "vifusion/map/map_buffers.hpp"
 #include "vifusion/map/map_export.hpp"
 #include "vifusion/map/surfel_deformation.hpp"
@@ -173,6 +174,53 @@ TEST_F(SurfelDeformationTest, GpuMatchesTheCpuReference) {
   // Float arithmetic in a different order (FMA, the GPU's sqrt): rounding only.
   EXPECT_LT(worst_position_m, 2e-5);
   EXPECT_LT(worst_normal, 2e-5);
+}
+
+// A later closure holds the nodes older than the previous one at the identity: the surfels bound to them alone
+// are skipped (left bit for bit, not recomputed through identity maps with rounding), the rest move as the CPU
+// reference moves them.
+TEST_F(SurfelDeformationTest, SurfelsOfHeldNodesAreLeftBitForBit) {
+  constexpr std::uint32_t kSurfels = 30'000;
+  const std::vector<Surfel> surfels = roomSurfels(kSurfels, 7);
+  std::vector<DeformationNode> nodes = randomNodes(surfels, 97, 8);  // 310 nodes
+  constexpr std::uint32_t kFirstMoving = 200;
+  for (std::uint32_t i = 0; i < kFirstMoving; ++i) {
+    for (int c = 0; c < 3; ++c) {
+      nodes[i].columns[c] = Eigen::Vector4f::Unit(c);
+      nodes[i].inverse_transpose_columns[c] = Eigen::Vector4f::Unit(c);
+    }
+  }
+  map::SurfelDeformationOptions options;
+  options.max_nodes = 400;
+  DeformationRig rig(context(), kSurfels, options);
+  rig.setSurfels(surfels);
+  rig.deformation().setNodes(nodes, kFirstMoving);
+  rig.deformation().apply();
+  const std::vector<Surfel> gpu = rig.surfels();
+  std::vector<Surfel> cpu = surfels;
+  map::deformSurfelsCpu(cpu, nodes, options.candidates, kFirstMoving);
+
+  std::vector<std::uint32_t> node_times;
+  for (const DeformationNode& node : nodes) node_times.push_back(node.time());
+  ASSERT_EQ(gpu.size(), cpu.size());
+  std::size_t held = 0;
+  double worst_position_m = 0.0;
+  for (std::size_t i = 0; i < cpu.size(); ++i) {
+    const auto time = static_cast<std::uint32_t>(surfels[i].colour_times.y());
+    const int start = loop::candidateWindowStart(node_times, time, static_cast<int>(options.candidates));
+    if (start + static_cast<int>(options.candidates) <= static_cast<int>(kFirstMoving)) {
+      ++held;
+      ASSERT_EQ(0, std::memcmp(&gpu[i], &surfels[i], sizeof(Surfel))) << "surfel " << i;
+      ASSERT_EQ(0, std::memcmp(&cpu[i], &surfels[i], sizeof(Surfel))) << "surfel " << i;
+    }
+    worst_position_m = std::max<double>(
+        worst_position_m, (gpu[i].position_confidence.head<3>() - cpu[i].position_confidence.head<3>()).norm());
+  }
+  // Windows of 20 nodes: the surfels of the first ~190 held nodes (~97 each) stay, those of the last ~110 move.
+  EXPECT_GT(held, 170u * 97u);
+  EXPECT_LT(held, 200u * 97u);
+  EXPECT_LT(worst_position_m, 2e-5);
+  EXPECT_THROW(rig.deformation().setNodes(nodes, static_cast<std::uint32_t>(nodes.size()) + 1), Error);
 }
 
 // The whole chain: a graph solved for a smooth correction, its committed nodes on the GPU, and every surfel

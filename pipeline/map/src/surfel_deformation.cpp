@@ -21,7 +21,8 @@ namespace {
 struct DeformParams {
   std::uint32_t node_count = 0;
   std::uint32_t candidates = 0;
-  std::uint32_t pad[2] = {};
+  std::uint32_t first_moving_node = 0;
+  std::uint32_t pad = 0;
 };
 
 std::string field(const char* name) { return std::string("surfel deformation option '") + name + "'"; }
@@ -99,13 +100,17 @@ void SurfelDeformation::record(gpu::CommandRecorder& recorder, int parity) const
   recorder.computeBarrier();
 }
 
-void SurfelDeformation::setNodes(std::span<const DeformationNode> nodes) {
+void SurfelDeformation::setNodes(std::span<const DeformationNode> nodes, std::uint32_t first_moving_node) {
   if (nodes.empty() || nodes.size() > options_.max_nodes) {
     throw Error("surfel deformation: " + std::to_string(nodes.size()) + " nodes, must be 1.." +
                 std::to_string(options_.max_nodes) + " (max_nodes)");
   }
+  if (first_moving_node > nodes.size()) {
+    throw Error("surfel deformation: first moving node " + std::to_string(first_moving_node) + " of " +
+                std::to_string(nodes.size()) + " nodes");
+  }
   std::memcpy(arena_->buffer(nodes_).mapped, nodes.data(), nodes.size_bytes());
-  const DeformParams params{static_cast<std::uint32_t>(nodes.size()), options_.candidates};
+  const DeformParams params{static_cast<std::uint32_t>(nodes.size()), options_.candidates, first_moving_node};
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
 }
 
@@ -117,13 +122,16 @@ void SurfelDeformation::setNodes(const loop::DeformationGraph& graph) {
   }
   const std::span<DeformationNode> out = arena_->buffer(nodes_).hostSpan<DeformationNode>();
   for (int i = 0; i < count; ++i) out[static_cast<std::size_t>(i)] = deformationNode(graph, i);
-  const DeformParams params{static_cast<std::uint32_t>(count), options_.candidates};
+  const DeformParams params{static_cast<std::uint32_t>(count), options_.candidates,
+                            static_cast<std::uint32_t>(graph.firstFreeNode())};
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
 }
 
 void SurfelDeformation::apply() { kernels_->sequences[map_.current()]->run(); }
 
-void deformSurfelsCpu(std::span<Surfel> surfels, std::span<const DeformationNode> nodes, std::uint32_t candidates) {
+void deformSurfelsCpu(std::span<Surfel> surfels, std::span<const DeformationNode> nodes, std::uint32_t candidates,
+                      std::uint32_t first_moving_node) {
+  const auto count = static_cast<int>(std::min<std::size_t>(candidates, nodes.size()));
   std::vector<Eigen::Vector3f> positions(nodes.size());
   std::vector<std::uint32_t> times(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) {
@@ -134,6 +142,8 @@ void deformSurfelsCpu(std::span<Surfel> surfels, std::span<const DeformationNode
     const Eigen::Vector3f p = surfel.position_confidence.head<3>();
     const Eigen::Vector3f n_W = surfel.normal_radius.head<3>();
     const auto time = static_cast<std::uint32_t>(surfel.colour_times.y());
+    const int start = loop::candidateWindowStart(times, time, static_cast<int>(candidates));
+    if (start + count <= static_cast<int>(first_moving_node)) continue;
     const loop::NodeBinding<float> binding =
         loop::bindToNodes<float>(p, time, positions, times, static_cast<int>(candidates));
     Eigen::Vector3f position = Eigen::Vector3f::Zero();

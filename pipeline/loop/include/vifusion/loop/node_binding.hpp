@@ -12,7 +12,7 @@
 //      candidate, normalised to sum 1. When d_max = 0 or all weights are 0, the kept nodes get equal
 //      weights; with fewer than kBoundNodes+1 candidates, d_max is the farthest kept one's distance.
 //
-// The GLSL shader mirrors these functions line by line, so they are written loop-simple on purpose:
+// The GLSL shader mirrors these functions step by step, so they are written loop-simple on purpose:
 // fixed k, fixed-size arrays, no allocation, no standard algorithms, templated on float and double.
 // Unused slots (fewer than kBoundNodes candidates) repeat the nearest node's index with weight 0, so
 // the deformation function needs no branch on them.

@@ -2,7 +2,8 @@
 // A loop closure's deformation applied to the surfel map on the GPU (shaders/map_deform.comp): every live
 // surfel of the current array is bound to its deformation-graph nodes by creation frame and position and
 // moved by φ (vifusion/loop/deformation_function.hpp), its normal by the nodes' A⁻ᵀ, in place. Confidence,
-// radius, colour and times are kept.
+// radius, colour and times are kept. Surfels bound only to nodes a closure held (older than the previous
+// accepted closure: the identity) are skipped, so a later closure costs what it moves, not the map's size.
 //
 // The nodes travel in a host-visible buffer sized once for `max_nodes` (the graph's capacity, from the
 // capacity plan): setNodes() writes them, apply() runs the sequence recorded once per surfel-array parity.
@@ -10,7 +11,7 @@
 // that writes the map.
 //
 // CPU reference: deformSurfelsCpu, which binds with vifusion::loop::bindToNodes<float> (the shader mirrors it
-// line by line) and applies the same float records.
+// step by step) and applies the same float records.
 
 #include <Eigen/Core>
 #include <cstdint>
@@ -65,10 +66,12 @@ class SurfelDeformation {
   /// Creates the kernel, one binding set and one recorded sequence per surfel-array parity.
   void build(const gpu::MemoryArena& arena);
 
-  /// Writes the nodes (sorted by creation frame, 1 ≤ count ≤ max_nodes) for the next apply(). No allocation.
-  /// Throws vifusion::Error when there are none or more than max_nodes.
-  void setNodes(std::span<const DeformationNode> nodes);
-  /// Writes node i of `graph` for i < graph.nodeCount() (committed parameters), as setNodes. No allocation.
+  /// Writes the nodes (sorted by creation frame, 1 ≤ count ≤ max_nodes) for the next apply(). Nodes
+  /// [0, first_moving_node) must be the identity: surfels bound to them alone are skipped, not rewritten.
+  /// No allocation. Throws vifusion::Error when there are none, more than max_nodes, or first_moving_node > count.
+  void setNodes(std::span<const DeformationNode> nodes, std::uint32_t first_moving_node = 0);
+  /// Writes node i of `graph` for i < graph.nodeCount() (committed parameters), as setNodes, with the graph's
+  /// held nodes (firstFreeNode()) as the identity ones. No allocation.
   void setNodes(const loop::DeformationGraph& graph);
   /// Deforms the current surfel array in place and waits for it.
   void apply();
@@ -90,7 +93,9 @@ class SurfelDeformation {
 };
 
 /// CPU reference of map_deform.comp: deforms `surfels` in place by `nodes` (sorted by creation frame, ≥ 1),
-/// binding each within a window of `candidates` nodes.
-void deformSurfelsCpu(std::span<Surfel> surfels, std::span<const DeformationNode> nodes, std::uint32_t candidates);
+/// binding each within a window of `candidates` nodes; a surfel whose window lies in [0, first_moving_node) is
+/// left as it is.
+void deformSurfelsCpu(std::span<Surfel> surfels, std::span<const DeformationNode> nodes, std::uint32_t candidates,
+                      std::uint32_t first_moving_node = 0);
 
 }  // namespace vifusion::map

@@ -91,6 +91,8 @@ TEST_F(ModelRegistrationTest, AViewAgainstItselfIsTheIdentityAndAccepted) {
   EXPECT_LT(result.T_inactive_active.log().tail<3>().norm(), 1e-5);
   EXPECT_LT(result.mean_chi2, 0.01) << "identical maps agree exactly";
   EXPECT_GT(result.inliers, 0.5 * 640 * 480);
+  EXPECT_LT(result.correction_chi2, 1e-3);
+  EXPECT_FALSE(result.significant) << "no correction is no evidence of drift";
 }
 
 TEST_F(ModelRegistrationTest, TwoViewsRegisterToTheirRelativeMotion) {
@@ -105,9 +107,13 @@ TEST_F(ModelRegistrationTest, TwoViewsRegisterToTheirRelativeMotion) {
   EXPECT_LT(difference.log().tail<3>().norm(), 0.5 * M_PI / 180.0);
   EXPECT_GT(T_true.translation().norm(), 0.01) << "the views are apart";
   EXPECT_GT(result.inliers, 0.3 * 640 * 480);
-  std::printf("registration 150 -> 155: %s, χ² %.3f, σ %.2f mm / %.3f°, %d iterations\n",
+  EXPECT_NEAR(result.correction_m, result.T_inactive_active.log().head<3>().norm(), 1e-12);
+  // Centimetres at millimetre σ (the frames' own views disagree to χ² 1.5 per inlier, so the verdict is
+  // the residual test's; the correction's χ² is computed either way).
+  EXPECT_GT(result.correction_chi2, slam::RegistrationOptions{}.min_correction_chi2);
+  std::printf("registration 150 -> 155: %s, χ² %.3f, σ %.2f mm / %.3f°, correction χ² %.1f, %d iterations\n",
               slam::registrationVerdictName(result.verdict), result.mean_chi2, 1e3 * result.position_sigma_m,
-              result.rotation_sigma_rad * 180.0 / M_PI, result.iterations);
+              result.rotation_sigma_rad * 180.0 / M_PI, result.correction_chi2, result.iterations);
 }
 
 TEST_F(ModelRegistrationTest, UnrelatedViewsAreRefusedByName) {
@@ -146,6 +152,9 @@ TEST(RegistrationOptions, ValidationNamesTheField) {
   options = {};
   options.max_mean_chi2 = -1.0;
   test::expectError([&] { options.validate(); }, "registration option 'max_mean_chi2'");
+  options = {};
+  options.min_correction_chi2 = 0.0;
+  test::expectError([&] { options.validate(); }, "registration option 'min_correction_chi2'");
 }
 
 }  // namespace

@@ -58,7 +58,7 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial, 
   const nlohmann::json r = report(run_dir);
   const FrameTable table = frameTable(run_dir);
   ASSERT_EQ(static_cast<int>(table.rows.size()), r.at("frames").get<int>());
-  double lost = 0.0, imu = 0.0, evicted = 0.0, rejected = 0.0, accepted = 0.0, refused = 0.0;
+  double lost = 0.0, imu = 0.0, evicted = 0.0, rejected = 0.0, accepted = 0.0, refused = 0.0, agreed = 0.0;
   double state_frames[3] = {}, longest_run[3] = {}, run = 0.0;
   for (std::size_t i = 0; i < table.rows.size(); ++i) {
     const double state = table.at(i, "tracking");
@@ -75,10 +75,12 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial, 
     rejected += table.at(i, "vision_rejected");
     EXPECT_TRUE(table.at(i, "vision_rejected") == 0.0 || state != 0.0) << "a refused frame is not tracked, row " << i;
     imu += table.at(i, "imu");
-    const double closure = table.at(i, "closure");  // 0 none, 1 accepted, 2 refused (frame_log.hpp)
-    ASSERT_TRUE(closure == 0.0 || closure == 1.0 || closure == 2.0) << "row " << i;
+    // 0 none, 1 accepted, 2 refused, 3 agreed (frame_log.hpp)
+    const double closure = table.at(i, "closure");
+    ASSERT_TRUE(closure == 0.0 || closure == 1.0 || closure == 2.0 || closure == 3.0) << "row " << i;
     accepted += closure == 1.0 ? 1.0 : 0.0;
     refused += closure == 2.0 ? 1.0 : 0.0;
+    agreed += closure == 3.0 ? 1.0 : 0.0;
     EXPECT_EQ(closure == 2.0, table.at(i, "closure_refusal") != 0.0) << "a refusal names its test, row " << i;
     evicted += table.at(i, "evicted");
     if (i == 0) continue;  // the first frame starts the map: nothing to track against
@@ -101,6 +103,7 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial, 
   EXPECT_EQ(evicted, r.at("map_evicted_surfels").get<double>());
   const nlohmann::json& closures = r.at("closures");
   EXPECT_EQ(accepted, closures.at("accepted").get<double>());
+  EXPECT_EQ(agreed, closures.at("agreed").get<double>());
   double refused_in_report = 0.0;
   for (const auto& [test, count] : closures.at("refused").items()) refused_in_report += count.get<double>();
   EXPECT_EQ(refused, refused_in_report);
@@ -225,7 +228,8 @@ TEST(RunReport, LoopClosureOnTheRevisitDeformsTheMapAndCutsTheAte) {
   EXPECT_GE(closed.at("closures").at("accepted").get<int>(), 1);
   EXPECT_EQ(open.at("closures").at("accepted").get<int>(), 0);
   EXPECT_LE(closed.at("ate_rmse_m").get<double>(), kMaxAteRatio * open.at("ate_rmse_m").get<double>());
-  // Stage timings: every attempt registered, every accepted closure solved and applied.
+  // Stage timings: every attempt registered, every accepted closure solved and applied, every agreed one
+  // applied (reactivation only).
   const nlohmann::json& closures = closed.at("closures");
   const nlohmann::json& stages = closures.at("stages_ms");
   int refused = 0;
@@ -233,7 +237,7 @@ TEST(RunReport, LoopClosureOnTheRevisitDeformsTheMapAndCutsTheAte) {
   const int accepted = closures.at("accepted").get<int>();
   EXPECT_GE(stages.at("registration").at("count").get<int>(), accepted + refused);
   EXPECT_GE(stages.at("deformation").at("count").get<int>(), accepted);
-  EXPECT_EQ(stages.at("apply").at("count").get<int>(), accepted);
+  EXPECT_EQ(stages.at("apply").at("count").get<int>(), accepted + closures.at("agreed").get<int>());
   for (const char* stage : {"registration", "deformation", "apply"}) {
     EXPECT_GT(stages.at(stage).at("mean").get<double>(), 0.0) << stage;
     EXPECT_LE(stages.at(stage).at("mean").get<double>(), stages.at(stage).at("max").get<double>()) << stage;

@@ -32,6 +32,8 @@ const char* closureOutcomeName(ClosureOutcome outcome) {
       return "accepted";
     case ClosureOutcome::kRefused:
       return "refused";
+    case ClosureOutcome::kAgreed:
+      return "agreed";
     case ClosureOutcome::kNone:
       break;
   }
@@ -177,6 +179,16 @@ ClosureReport LoopClosure::tryClose(const SE3d& T_W_C, std::uint32_t frame, cons
   if (!report.registration.accepted()) {
     report.outcome = ClosureOutcome::kRefused;
     report.refusal = refusalOf(report.registration.verdict);
+    report.ms = msSince(start);
+    return report;
+  }
+  if (!report.registration.significant) {
+    // The inactive prediction rendered for the registration is at this very pose: its surfels are the ones
+    // in view.
+    const auto apply_start = std::chrono::steady_clock::now();
+    reactivation_->apply(frame);
+    report.apply_ms = msSince(apply_start);
+    report.outcome = ClosureOutcome::kAgreed;
     report.ms = msSince(start);
     return report;
   }

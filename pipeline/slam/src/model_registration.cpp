@@ -35,6 +35,7 @@ void RegistrationOptions::validate() const {
   if (!(max_pose_to_depth_sigma > 0.0)) throw Error(field("max_pose_to_depth_sigma") + " must be > 0");
   if (!(max_correction_m > 0.0)) throw Error(field("max_correction_m") + " must be > 0");
   if (!(max_correction_rad > 0.0)) throw Error(field("max_correction_rad") + " must be > 0");
+  if (!(min_correction_chi2 > 0.0)) throw Error(field("min_correction_chi2") + " must be > 0");
 }
 
 const char* registrationVerdictName(RegistrationVerdict verdict) {
@@ -157,13 +158,17 @@ RegistrationResult ModelRegistration::align() {
   NormalEquations6 projected = last;
   const int free_directions =
       tracking::removeUnconstrainedIcpDirections(last, options_.min_constraint_share, projected);
-  const Matrix6d covariance = (options_.information_scale * last.H).inverse();
+  const Matrix6d information = options_.information_scale * last.H;
+  const Matrix6d covariance = information.inverse();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> position(covariance.topLeftCorner<3, 3>());
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rotation(covariance.bottomRightCorner<3, 3>());
   result.position_sigma_m = std::sqrt(std::max(0.0, position.eigenvalues().maxCoeff()));
   result.rotation_sigma_rad = std::sqrt(std::max(0.0, rotation.eigenvalues().maxCoeff()));
   result.far_sigma_m = std::hypot(result.position_sigma_m, far_depth_m_ * result.rotation_sigma_rad);
   const Vector6d correction = T.log();
+  result.correction_m = correction.head<3>().norm();
+  result.correction_rad = correction.tail<3>().norm();
+  result.correction_chi2 = correction.dot(information * correction);
   if (!(result.mean_chi2 <= options_.max_mean_chi2)) {
     result.verdict = RegistrationVerdict::kResidual;
   } else if (free_directions > 0) {
@@ -175,6 +180,7 @@ RegistrationResult ModelRegistration::align() {
     result.verdict = RegistrationVerdict::kCorrection;
   } else {
     result.verdict = RegistrationVerdict::kAccepted;
+    result.significant = result.correction_chi2 >= options_.min_correction_chi2;
   }
   return result;
 }

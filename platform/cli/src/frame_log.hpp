@@ -21,7 +21,8 @@
 //   vision_chi2           how far the dense solution pulled the state from the IMU and the prior [χ²]
 //   vision_rejected       1: the dense solution failed the estimator's gate on vision_chi2 (then lost = 1)
 //   closure               the frame's loop-closure attempt (slam/loop_closure.hpp): 0 none, 1 accepted (the map
-//                         was deformed and the trajectory with it), 2 refused
+//                         was deformed and the trajectory with it), 2 refused, 3 agreed (the correction was
+//                         within its noise: old surfaces reactivated, nothing moved)
 //   closure_refusal       the refused attempt's failed test, slam::ClosureRefusal: 1 overlap, 2 diverged,
 //                         3 residual, 4 unconstrained, 5 covariance, 6 correction, 7 solve, 8 consistency; 0 else
 //   closure_error_mm      an attempt that reached the deformation: the mean constraint error after the solve [mm]
@@ -30,6 +31,8 @@
 //   closure_sigma_mm, closure_sigma_deg   the registration's largest position and rotation σ (the covariance
 //                         test's figures; 0 when it stopped for overlap)
 //   closure_ms            wall time of the attempt [ms]
+//   closure_correction_mm, closure_correction_deg, closure_chi2   the registration's correction (translation,
+//                         rotation) and its χ² against the covariance (0 unless the registration got that far)
 
 #include <filesystem>
 #include <vector>
@@ -72,6 +75,9 @@ class FrameLog {
     double closure_sigma_mm = 0.0;
     double closure_sigma_deg = 0.0;
     double closure_ms = 0.0;
+    double closure_correction_mm = 0.0;
+    double closure_correction_deg = 0.0;
+    double closure_chi2 = 0.0;
   };
   std::vector<Row> rows_;
 };

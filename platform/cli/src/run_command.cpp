@@ -52,15 +52,17 @@ class ClosureCounts {
     ms_ = std::max(ms_, report.ms);
     if (report.outcome == slam::ClosureOutcome::kAccepted) {
       ++accepted_;
+    } else if (report.outcome == slam::ClosureOutcome::kAgreed) {
+      ++agreed_;
     } else {
       ++refused_[static_cast<std::size_t>(report.refusal)];
     }
   }
   int accepted() const { return accepted_; }
 
-  /// {"accepted": N, "refused": {"residual": M, …}, "max_ms": T, "stages_ms": {"registration": {"count", "mean",
-  /// "max"}, "deformation": …, "apply": …}} (ClosureReport's stages; registration counts every frame that rendered
-  /// the inactive model, attempts that found nothing in view included)
+  /// {"accepted": N, "agreed": A, "refused": {"residual": M, …}, "max_ms": T, "stages_ms": {"registration": {"count",
+  /// "mean", "max"}, "deformation": …, "apply": …}} (ClosureReport's stages; registration counts every frame that
+  /// rendered the inactive model, attempts that found nothing in view included)
   nlohmann::json json() const {
     nlohmann::json refused = nlohmann::json::object();
     for (int r = 1; r < slam::kClosureRefusals; ++r) {
@@ -69,6 +71,7 @@ class ClosureCounts {
       }
     }
     return {{"accepted", accepted_},
+            {"agreed", agreed_},
             {"refused", refused},
             {"max_ms", ms_},
             {"stages_ms",
@@ -89,6 +92,7 @@ class ClosureCounts {
   };
   StageTimes registration_, deformation_, apply_;
   int accepted_ = 0;
+  int agreed_ = 0;
   std::array<int, slam::kClosureRefusals> refused_{};
   double ms_ = 0.0;
 };

@@ -13,6 +13,8 @@
 //      and a later one moves only what was mapped since (ElasticFusion's rule);
 //   3. the solve must leave the constraints consistent (mean error after ≤ max_constraint_error_m), else the
 //      graph is reverted and the map is left exactly as it was (the closure is refused and reported);
+//   A registration whose correction is within its own noise is not a deformation: moving the map by it would
+//   move it by noise. The models agree; the inactive surfels in view are reactivated and nothing moves (kAgreed).
 //   4. an accepted deformation moves every surfel and normal on the GPU (map/surfel_deformation.hpp), the
 //      inactive surfels in view are reactivated (map/surfel_reactivation.hpp), and the caller moves the camera
 //      pose, the estimator's state (estimator::TwoStateEstimator::moveWithMap) and the trajectory it keeps
@@ -74,6 +76,10 @@ enum class ClosureOutcome : std::uint8_t {
   kNone,      ///< not tried (disabled, too early, frame not tracked) or no inactive map in view
   kAccepted,  ///< the map was deformed
   kRefused,   ///< registered or solved, but a test failed: the map is as it was
+  /// registered and accepted, but the correction is within its own noise (RegistrationOptions::
+  /// min_correction_chi2): nothing moved, the inactive surfels in view were reactivated (the revisit is mapped
+  /// onto the old surfaces, not beside them)
+  kAgreed,
 };
 const char* closureOutcomeName(ClosureOutcome outcome);
 

@@ -23,6 +23,10 @@
 //                error than fusing one more frame (the bound of slam/tracking_state.hpp's IMU-carried frames);
 //   correction   the correction within max_correction_m / max_correction_rad: local closure corrects drift
 //                since the surfaces went inactive, and ICP from the identity has no wider basin anyway.
+// An accepted alignment also says whether its correction ξ = log(T_inactive_active) is distinguishable from
+// no correction at all: χ² = ξᵀ Σ⁻¹ ξ (Σ the covariance above) against min_correction_chi2. Below it the two
+// models agree to the alignment's own noise, and moving the map by ξ would move it by noise (LoopClosure then
+// reactivates the old surfaces without deforming anything).
 //
 // Lifecycle: construct (declares the ICP's buffers in the plan) → build(arena, level inputs) once → align()
 // when a closure is tried. No allocation in align().
@@ -63,6 +67,9 @@ struct RegistrationOptions {
   /// Largest correction accepted [m], [rad] (ElasticFusion refuses a 0.3 m jump in tracking).
   double max_correction_m = 0.3;
   double max_correction_rad = 0.2;
+  /// A correction with χ² = ξᵀ Σ⁻¹ ξ below this is no evidence of drift: the 0.99 quantile of χ² with 6 degrees
+  /// of freedom (a correct alignment of undrifted models stays below it 99 % of the time). > 0.
+  double min_correction_chi2 = 16.81;
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -90,8 +97,13 @@ struct RegistrationResult {
   double position_sigma_m = 0.0;    ///< σ_r: largest position σ [m]
   double rotation_sigma_rad = 0.0;  ///< σ_θ: largest rotation σ [rad]
   double far_sigma_m = 0.0;         ///< σ_p(z_far) = √(σ_r² + z_far²·σ_θ²) [m], the covariance test's figure
+  double correction_m = 0.0;        ///< |translation of log(T_inactive_active)| [m]
+  double correction_rad = 0.0;      ///< |rotation of log(T_inactive_active)| [rad]
+  double correction_chi2 = 0.0;     ///< ξᵀ Σ⁻¹ ξ of the correction (min_correction_chi2)
   int iterations = 0;
   bool accepted() const { return verdict == RegistrationVerdict::kAccepted; }
+  /// Accepted, and the correction is evidence of drift (χ² ≥ min_correction_chi2, set by align()).
+  bool significant = false;
 };
 
 /// Both renderings at one pyramid level (camera frame of the current pose).

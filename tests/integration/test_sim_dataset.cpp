@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "vifusion/core/error.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
 #include "vifusion/scene/living_room.hpp"
@@ -21,7 +23,7 @@ TEST(SimDataset, ReadsBackWithConsistentGroundTruthAndCalibration) {
   EXPECT_EQ(calibration.camera.width, 160);
   EXPECT_EQ(calibration.imu.rate_hz, 200.0);
   EXPECT_EQ(calibration.inverse_depth_bias_per_m, 0.0);  // noise-free depth has no bias to remove
-  EXPECT_EQ(reader->frameCount(), 31u);  // 1 s at 30 Hz, both ends included
+  EXPECT_EQ(reader->frameCount(), 31u);                  // 1 s at 30 Hz, both ends included
   ASSERT_EQ(reader->groundTruth().size(), reader->frameCount());
   ASSERT_GE(reader->imu().size(), 200u);
   ASSERT_EQ(reader->groundTruthStates().size(), reader->imu().size());
@@ -65,6 +67,36 @@ TEST(SimDataset, NoiseFreeDepthLiesOnTheSceneSurface) {
   }
 }
 
+// `vifusion sim --cover 0.41 0.3`: the frames from 0.41 s to 0.71 s after the first are black with no depth (a hand
+// over the lens), every other frame is the uncovered dataset's byte for byte, and the IMU and the ground truth go
+// on as if nothing happened.
+TEST(SimDataset, CoveredFramesAreBlankAndEverythingElseIsUnchanged) {
+  const auto covered = datasets::openDataset(std::string("dataset:") + VIFUSION_SIM_COVERED_DATASET);
+  const auto uncovered = datasets::openDataset("dataset:" + datasetDir());
+  ASSERT_EQ(covered->frameCount(), uncovered->frameCount());
+  ASSERT_EQ(covered->imu().size(), uncovered->imu().size());
+  for (std::size_t i = 0; i < covered->imu().size(); ++i) {
+    ASSERT_EQ(covered->imu()[i].t_ns, uncovered->imu()[i].t_ns);
+    ASSERT_EQ(covered->imu()[i].gyro_rad_s, uncovered->imu()[i].gyro_rad_s);
+  }
+  RgbdFrame a, b;
+  int blank = 0;
+  while (covered->nextFrame(a) && uncovered->nextFrame(b)) {
+    ASSERT_EQ(a.t_ns, b.t_ns);
+    const double t_s = static_cast<double>(a.t_ns - covered->groundTruth().front().t_ns) * 1e-9;
+    const bool in_cover = t_s >= 0.41 && t_s < 0.71;  // no frame within 1 µs of either end
+    const bool a_blank =
+        std::all_of(a.depth.data(), a.depth.data() + a.depth.pixelCount(), [](auto d) { return d == 0; }) &&
+        std::all_of(a.rgb.data(), a.rgb.data() + a.rgb.pixelCount(), [](const Rgb8& c) { return c == Rgb8{}; });
+    EXPECT_EQ(a_blank, in_cover) << "frame " << a.index << " at " << t_s << " s";
+    if (!in_cover) {
+      EXPECT_TRUE(std::equal(a.depth.data(), a.depth.data() + a.depth.pixelCount(), b.depth.data())) << a.index;
+    }
+    blank += a_blank ? 1 : 0;
+  }
+  EXPECT_EQ(blank, 9);  // frames 13–21 (0.433–0.700 s)
+}
+
 TEST(SimDataset, NoiseFreeImuMatchesTheGroundTruthMotion) {
   // Specific force R_W_Sᵀ(a_W − g_W) + b_a and rate ω_S + b_g, with a_W and ω_S taken by central
   // differences of the true velocities and orientations 5 ms apart (truncation ≈ 1e-4).
@@ -75,9 +107,10 @@ TEST(SimDataset, NoiseFreeImuMatchesTheGroundTruthMotion) {
     const double dt_s = 1e-9 * static_cast<double>(states[k + 1].t_ns - states[k - 1].t_ns);
     const Eigen::Vector3d a_W = (states[k + 1].v_W_S - states[k - 1].v_W_S) / dt_s;
     const Eigen::AngleAxisd rotation(states[k - 1].q_W_S.conjugate() * states[k + 1].q_W_S);
-    const Eigen::Vector3d omega_S = states[k].q_W_S.conjugate() * states[k - 1].q_W_S *
-                                    (rotation.angle() / dt_s * rotation.axis());
-    const Eigen::Vector3d expected_accel = states[k].q_W_S.conjugate() * (a_W - reader->calibration().g_W) + states[k].b_a;
+    const Eigen::Vector3d omega_S =
+        states[k].q_W_S.conjugate() * states[k - 1].q_W_S * (rotation.angle() / dt_s * rotation.axis());
+    const Eigen::Vector3d expected_accel =
+        states[k].q_W_S.conjugate() * (a_W - reader->calibration().g_W) + states[k].b_a;
     EXPECT_LT((samples[k].accel_mps2 - expected_accel).norm(), 2e-3) << "sample " << k;
     EXPECT_LT((samples[k].gyro_rad_s - (omega_S + states[k].b_g)).norm(), 2e-3) << "sample " << k;
   }

@@ -94,6 +94,15 @@ int main(int argc, char** argv) {
   sim_command->add_option("--duration", sim.duration_s, "Only the first seconds (0: whole path)")
       ->capture_default_str();
   sim_command
+      ->add_option_function<std::vector<double>>(
+          "--cover",
+          [&sim](const std::vector<double>& v) {
+            sim.cover_start_s = v.at(0);
+            sim.cover_s = v.at(1);
+          },
+          "Covered camera: START SECONDS after the first frame, frames black with no depth (IMU goes on)")
+      ->expected(2);
+  sim_command
       ->add_option("--motion-blur", sim.motion_blur_samples,
                    "Sub-frame renders per image (-1: 5 for fast presets, else 1)")
       ->capture_default_str();

@@ -1,5 +1,6 @@
 #include "sim_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -72,6 +73,9 @@ nlohmann::json residualsJson(const sim::FitResiduals& r) {
 
 int runSim(const SimOptions& options) {
   if (options.out.empty()) throw Error("--out DIR is required");
+  if (!(options.cover_start_s >= 0.0) || !(options.cover_s >= 0.0)) {
+    throw Error("--cover START SECONDS: both must be ≥ 0 s");
+  }
   if (options.up != "y" && options.up != "z") throw Error("--up must be 'y' or 'z', got '" + options.up + "'");
   if (options.width % 2 != 0 || options.width < 16 || options.height < 16) {
     throw Error("--width must be even and both sizes at least 16 px");
@@ -146,8 +150,19 @@ int runSim(const SimOptions& options) {
   const int64_t frames = (t_end_ns - fit.first_pose_ns) / kFramePeriodNs + 1;
   ProgressBar progress("rendering", frames);
   const auto render_start = std::chrono::steady_clock::now();
+  const int64_t cover_start_ns = fit.first_pose_ns + secondsToNs(options.cover_start_s);
+  const int64_t cover_end_ns = cover_start_ns + secondsToNs(options.cover_s);
+  int64_t covered_frames = 0;
   for (int64_t k = 0; k < frames; ++k) {
     const int64_t t_ns = (fit.first_pose_ns + k * kFramePeriodNs) / 1000 * 1000;
+    if (t_ns >= cover_start_ns && t_ns < cover_end_ns) {
+      std::fill_n(rgb.data(), rgb.pixelCount(), Rgb8{});
+      std::fill_n(depth.data(), depth.pixelCount(), std::uint16_t{0});
+      writer.writeFrame(t_ns, rgb.view(), depth.view(), fit.cameraPose(t_ns));
+      ++covered_frames;
+      progress.update(k + 1);
+      continue;
+    }
     for (std::size_t i = 0; i < sub_frame_poses.size(); ++i) {
       const int64_t offset_ns =
           sub_frame_poses.size() == 1
@@ -186,6 +201,7 @@ int runSim(const SimOptions& options) {
                             {"gyro_clipped_samples", imu.gyro_clipped_samples},
                             {"accel_clipped_samples", imu.accel_clipped_samples},
                             {"motion_blur_samples", blur_samples},
+                            {"covered_frames", covered_frames},
                             {"render_frames_per_s", static_cast<double>(frames) / render_s},
                             {"wall_time_s", total_s}};
   if (!options.quiet) std::printf("%s\n", summary.dump().c_str());

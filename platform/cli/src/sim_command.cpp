@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -73,8 +74,9 @@ nlohmann::json residualsJson(const sim::FitResiduals& r) {
 
 int runSim(const SimOptions& options) {
   if (options.out.empty()) throw Error("--out DIR is required");
-  if (!(options.cover_start_s >= 0.0) || !(options.cover_s >= 0.0)) {
-    throw Error("--cover START SECONDS: both must be ≥ 0 s");
+  if (!(options.cover_start_s >= 0.0) || !(options.cover_s >= 0.0) || !std::isfinite(options.cover_start_s) ||
+      !std::isfinite(options.cover_s)) {
+    throw Error("--cover START SECONDS: both must be finite and ≥ 0 s");
   }
   if (options.up != "y" && options.up != "z") throw Error("--up must be 'y' or 'z', got '" + options.up + "'");
   if (options.width % 2 != 0 || options.width < 16 || options.height < 16) {
@@ -155,14 +157,7 @@ int runSim(const SimOptions& options) {
   int64_t covered_frames = 0;
   for (int64_t k = 0; k < frames; ++k) {
     const int64_t t_ns = (fit.first_pose_ns + k * kFramePeriodNs) / 1000 * 1000;
-    if (t_ns >= cover_start_ns && t_ns < cover_end_ns) {
-      std::fill_n(rgb.data(), rgb.pixelCount(), Rgb8{});
-      std::fill_n(depth.data(), depth.pixelCount(), std::uint16_t{0});
-      writer.writeFrame(t_ns, rgb.view(), depth.view(), fit.cameraPose(t_ns));
-      ++covered_frames;
-      progress.update(k + 1);
-      continue;
-    }
+    const bool covered = t_ns >= cover_start_ns && t_ns < cover_end_ns;
     for (std::size_t i = 0; i < sub_frame_poses.size(); ++i) {
       const int64_t offset_ns =
           sub_frame_poses.size() == 1
@@ -171,7 +166,11 @@ int runSim(const SimOptions& options) {
       const int64_t t_sample = std::clamp(t_ns + offset_ns, fit.spline_W_S.startTimeNs(), fit.spline_W_S.endTimeNs());
       sub_frame_poses[i] = fit.cameraPose(t_sample);
     }
-    if (options.noise && subsampling > 1) {
+    if (covered) {
+      std::fill_n(rgb.data(), rgb.pixelCount(), Rgb8{});
+      std::fill_n(depth.data(), depth.pixelCount(), std::uint16_t{0});
+      ++covered_frames;
+    } else if (options.noise && subsampling > 1) {
       // Depth only at the native resolution: colour there would be rendered and thrown away.
       renderer.renderBlurred(sub_frame_poses, sensor_camera, ImageView<Rgb8>{}, sensor_depth_m.view());
       noise.addDepthNoise(sensor_depth_m.view(), sensor_depth.view(), static_cast<uint64_t>(k));

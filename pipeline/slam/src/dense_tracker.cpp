@@ -25,6 +25,12 @@ void TrackerOptions::validate() const {
     throw Error("tracker options 'motion_prior_sigma_m' and 'motion_prior_sigma_rad' must be > 0");
   }
   if (!(max_motion_innovation_m > 0.0)) throw Error("tracker option 'max_motion_innovation_m' must be > 0");
+  if (!(min_recovered_inlier_share > 0.0 && min_recovered_inlier_share <= 1.0)) {
+    throw Error("tracker option 'min_recovered_inlier_share' must be in (0, 1]");
+  }
+  if (!(max_place_correction_m > 0.0) || !(max_place_correction_rad > 0.0)) {
+    throw Error("tracker options 'max_place_correction_m' and 'max_place_correction_rad' must be > 0");
+  }
   if (rotation_iterations < 1 || rotation_iterations > 100) {
     throw Error("tracker option 'rotation_iterations' must be 1..100");
   }
@@ -173,14 +179,17 @@ SE3d DenseTracker::prealignRotation(const SE3d& T_prev_cur_guess) const {
   return SE3d(rotation_->align(T_prev_cur_guess.quaternion()), T_prev_cur_guess.translation());
 }
 
-TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess, ReferencePixels reference) {
+TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess, ReferencePixels reference, TrackingGuess guess) {
   TrackingResult result;
   result.T_ref_cur = T_ref_cur_guess;
   result.reference = reference;
   SE3d T_ref_cur = T_ref_cur_guess;
+  const bool place = guess == TrackingGuess::kPlace;
+  const double prior_sigma_m = place ? options_.max_place_correction_m : options_.motion_prior_sigma_m;
+  const double prior_sigma_rad = place ? options_.max_place_correction_rad : options_.motion_prior_sigma_rad;
   Vector6d prior_information;
-  prior_information << Eigen::Vector3d::Constant(1.0 / (options_.motion_prior_sigma_m * options_.motion_prior_sigma_m)),
-      Eigen::Vector3d::Constant(1.0 / (options_.motion_prior_sigma_rad * options_.motion_prior_sigma_rad));
+  prior_information << Eigen::Vector3d::Constant(1.0 / (prior_sigma_m * prior_sigma_m)),
+      Eigen::Vector3d::Constant(1.0 / (prior_sigma_rad * prior_sigma_rad));
   for (int l = options_.levels - 1; l >= 0; --l) {
     for (int i = 0; i < options_.iterations[l]; ++i) {
       NormalEquations6 system = evaluate(l, T_ref_cur, result, reference);
@@ -210,9 +219,13 @@ TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess, ReferencePixels 
     }
   }
   // A correction of the constant-velocity guess that no camera could make (max_motion_innovation_m)
-  // is the pose sliding, not the camera moving.
-  const double innovation_m = (T_ref_cur * T_ref_cur_guess.inverse()).translation().norm();
-  if (!(innovation_m <= options_.max_motion_innovation_m) || !healthy(result)) {
+  // is the pose sliding, not the camera moving; a place guess's bound is the keyframes' spacing.
+  const Vector6d innovation = (T_ref_cur * T_ref_cur_guess.inverse()).log();
+  const bool plausible =
+      place ? innovation.head<3>().norm() <= options_.max_place_correction_m &&
+                  innovation.tail<3>().norm() <= options_.max_place_correction_rad
+            : (T_ref_cur * T_ref_cur_guess.inverse()).translation().norm() <= options_.max_motion_innovation_m;
+  if (!plausible || !healthy(result)) {
     result.lost = true;
     return result;
   }
@@ -223,6 +236,10 @@ TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess, ReferencePixels 
 // The share of the frame's valid level-0 pixels that the final iteration kept as inliers.
 bool DenseTracker::healthy(const TrackingResult& statistics) const {
   return statistics.icp_inliers >= options_.min_inlier_fraction * statistics.icp_candidates;
+}
+
+bool DenseTracker::explainsFrame(const TrackingResult& statistics) const {
+  return statistics.icp_inliers >= options_.min_recovered_inlier_share * statistics.valid_pixels;
 }
 
 }  // namespace vifusion::slam

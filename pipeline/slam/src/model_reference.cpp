@@ -9,7 +9,8 @@ void recordPredictionAsReference(gpu::CommandRecorder& recorder, const gpu::Memo
   for (int l = 0; l < prediction.levels(); ++l) {
     const map::ModelLevelBuffers& model = prediction.level(l);
     const preprocess::LevelBuffers& reference = tracker.reference(l);
-    for (auto [from, to] : {std::pair{model.vertices, reference.vertices}, std::pair{model.normals, reference.normals}}) {
+    for (auto [from, to] :
+         {std::pair{model.vertices, reference.vertices}, std::pair{model.normals, reference.normals}}) {
       recorder.copyBuffer(arena.buffer(from), arena.buffer(to), arena.buffer(from).bytes);
     }
   }

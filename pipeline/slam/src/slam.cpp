@@ -49,6 +49,7 @@ void SlamOptions::validate() const {
   carry.validate();
   fill.validate();
   loop.validate();
+  relocalisation.validate();
 }
 
 Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const SlamOptions& options)
@@ -78,6 +79,9 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   if (options.loop.enabled) {
     loop_closure_ =
         std::make_unique<LoopClosure>(context, plan_, *map_, *prediction_, prediction, icp, far_depth_m_, options.loop);
+  }
+  if (options.relocalisation.enabled) {
+    relocaliser_ = std::make_unique<Relocaliser>(options.relocalisation, camera.width, camera.height);
   }
   if (mode_ != SlamMode::kRgbd) {
     estimator::EstimatorOptions estimator_options = options.estimator;
@@ -175,6 +179,13 @@ void Slam::trackRgbd(FrameResult& result) {
     // kept moving as it did; whichever guess tracks, verified, wins.
     T_reference_guess_ = T_reference_guess_ * motion;
     tracking = better(trackMapThenFill(SE3d()), trackMapThenFill(T_reference_guess_));
+    if (!tracking.lost && relocaliser_ && !relocaliser_->looksLikeLastTracked()) tracking.lost = true;
+    SE3d T_W_place;
+    if (tracking.lost && relocalise(tracking, T_W_place)) {
+      T_W_reference_ = T_W_place;
+      T_previous_current_ = SE3d();  // the motion before the loss says nothing about the motion now
+      result.relocalised = true;
+    }
   }
   result.used_reference_fill = !tracking.lost && tracking.reference == ReferencePixels::kMapAndFill;
   result.tracking = tracking.lost ? TrackingState::kLost : TrackingState::kTracked;
@@ -221,6 +232,37 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
   result.state = x;
   result.state_variance = estimator_->covarianceDiagonal();
   result.tracking = solve.vision_used ? TrackingState::kTracked : carriedOrLost(result);
+  if (result.tracking != TrackingState::kLost) return;
+  // Dead reckoning has outgrown the map: look for the place, and restart the estimator there, keeping its
+  // velocity, biases and gravity as prior means (as after refused IMU samples).
+  TrackingResult tracking;
+  SE3d T_W_place;
+  if (!relocalise(tracking, T_W_place)) return;
+  const NavState previous = estimator_->state();
+  result.T_W_C = T_W_place * tracking.T_ref_cur;
+  result.tracking = TrackingState::kTracked;
+  result.relocalised = true;
+  result.pose_sigma_m = 0.0;
+  result.icp_inliers = tracking.icp_inliers;
+  result.icp_candidates = tracking.icp_candidates;
+  result.rgb_inliers = tracking.rgb_inliers;
+  T_previous_current_ = SE3d();
+  startEstimator(t_imu_ns, imu, &previous, result);
+}
+
+bool Slam::relocalise(TrackingResult& tracking, SE3d& T_W_place) {
+  if (!relocaliser_) return false;
+  const std::optional<PlaceCandidate> place = relocaliser_->candidate();
+  if (!place) return false;
+  // The map as the keyframe saw it: rendered at its time, surfels updated since the keyframe's time window
+  // count as active (what the camera saw then, and what it mapped after), those gone inactive since too.
+  prediction_->setView(place->T_W_C.inverse(), place->frame_index);
+  predict_only_[map_->current()]->run();
+  const TrackingResult at_place = tracker_->track(SE3d(), ReferencePixels::kMap, TrackingGuess::kPlace);
+  if (at_place.lost || !tracker_->explainsFrame(at_place)) return false;
+  tracking = at_place;
+  T_W_place = place->T_W_C;
+  return true;
 }
 
 TrackingState Slam::carriedOrLost(FrameResult& result) const {
@@ -234,6 +276,10 @@ void Slam::closeLoop(FrameResult& result) {
   if (result.inertial) g_W = result.state.q_I_W.conjugate() * Eigen::Vector3d(0.0, 0.0, -gravity_mps2_);
   result.closure = loop_closure_->tryClose(result.T_W_C, frame_index_, g_W);
   if (result.closure.outcome != ClosureOutcome::kAccepted) return;
+  if (relocaliser_) {
+    relocaliser_->moveKeyframes(
+        [&](const SE3d& T_W_C, std::uint32_t frame) { return loop_closure_->deformPose(T_W_C, frame); });
+  }
   const SE3d& T_Wnew_Wold = result.closure.T_Wnew_Wold;
   result.T_W_C = T_Wnew_Wold * result.T_W_C;
   T_W_reference_ = result.T_W_C;
@@ -275,6 +321,7 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
   result.t_ns = frame.t_ns;
   const auto start = std::chrono::steady_clock::now();
   tracker_->preprocess(frame);
+  if (relocaliser_) relocaliser_->encode(frame);
   result.preprocess_ms = msSince(start);
 
   const std::int64_t t_imu_ns = frame.t_ns + time_shift_cam_imu_ns_;
@@ -312,6 +359,9 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
     result.coverage = reference_fill_->coverage().share();
   }
   if (loop_closure_ && result.tracking == TrackingState::kTracked && frame_index_ > 0) closeLoop(result);
+  if (relocaliser_ && result.tracking == TrackingState::kTracked) {
+    relocaliser_->offer(result.T_W_C, frame.t_ns, frame_index_);
+  }
   const map::MapState state = map_->readState(*arena_);
   result.surfels = state.surfel_count;
   result.map_overflow = state.overflow_count;

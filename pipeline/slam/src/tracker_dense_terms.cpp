@@ -10,7 +10,8 @@ bool TrackerDenseTerms::evaluate(int level, const SE3d& T_W_C, estimator::PoseSy
   if (level == 0) statistics_ = statistics;
   // Six rows make any pose direction determinable; fewer is an empty view (or none at all).
   if (!(equations.inliers >= 6.0) || !equations.H.allFinite() || !equations.b.allFinite()) return false;
-  tracking::removeUnconstrainedIcpDirections(tracker_.icpEquations(level), options_.icp_min_constraint_share, equations);
+  tracking::removeUnconstrainedIcpDirections(tracker_.icpEquations(level), options_.icp_min_constraint_share,
+                                             equations);
   system = estimator::toStatePose(options_.information_scale * equations.H, options_.information_scale * equations.b,
                                   T_W_ref_, T_W_C);
   system.inliers = equations.inliers;

@@ -33,6 +33,7 @@
 //   closure_ms            wall time of the attempt [ms]
 //   closure_correction_mm, closure_correction_deg, closure_chi2   the registration's correction (translation,
 //                         rotation) and its χ² against the covariance (0 unless the registration got that far)
+//   relocalised           1: lost to the recovery's guesses and tracked from a recognised place (relocaliser.hpp)
 
 #include <filesystem>
 #include <vector>
@@ -78,6 +79,7 @@ class FrameLog {
     double closure_correction_mm = 0.0;
     double closure_correction_deg = 0.0;
     double closure_chi2 = 0.0;
+    bool relocalised = false;
   };
   std::vector<Row> rows_;
 };

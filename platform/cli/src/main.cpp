@@ -46,6 +46,8 @@ int main(int argc, char** argv) {
   run->add_option("--frames", run_options.max_frames, "Stop after this many frames (0: all)")->capture_default_str();
   run->add_flag("!--no-photometric", run_options.photometric, "Track with ICP only");
   run->add_flag("!--no-loop-closure", run_options.loop_closure, "Open-loop odometry: no map deformation");
+  run->add_flag("!--no-relocalisation", run_options.relocalisation,
+                "A lost camera recovers only from its last pose and motion, not by recognising a place");
   run->add_flag("!--no-gravity-term", run_options.gravity_term,
                 "Deform without the gravity term E_imu (the ablation; inertial modes)");
   run->add_option("--map-capacity", run_options.map_capacity,

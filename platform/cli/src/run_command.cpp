@@ -136,6 +136,7 @@ int runPipeline(const RunOptions& options) {
   slam_options.map.capacity = options.map_capacity;
   slam_options.loop.enabled = options.loop_closure;
   slam_options.loop.gravity_term = options.gravity_term;
+  slam_options.relocalisation.enabled = options.relocalisation;
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
   const auto reader = datasets::openDataset(datasetSpec(options));
@@ -156,6 +157,7 @@ int runPipeline(const RunOptions& options) {
   states.reserve(inertial ? total : 0);
   FrameLog frame_log(total);
   int imu_issues = 0;
+  int relocalisations = 0;
   RgbdFrame frame;
   TrackingStateCounts states_seen;
   ClosureCounts closures;
@@ -183,6 +185,7 @@ int runPipeline(const RunOptions& options) {
                    result.imu_issue->message().c_str());
     }
     states_seen.add(result.tracking);
+    relocalisations += result.relocalised ? 1 : 0;
     preprocess_ms += result.preprocess_ms;
     tracking_ms += result.tracking_ms;
     mapping_ms += result.mapping_ms;
@@ -217,6 +220,10 @@ int runPipeline(const RunOptions& options) {
                            {"loop_closure", options.loop_closure},
                            {"closures", closures.json()},
                            {"closures_against_ground_truth", closure_judge.json()},
+                           {"relocalisation",
+                            {{"enabled", options.relocalisation},
+                             {"relocalisations", relocalisations},
+                             {"keyframes", pipeline.keyframes()}}},
                            {"frames_with_imu_issues", imu_issues},
                            {"ms_per_frame",
                             {{"preprocess", mean(preprocess_ms, frames)},

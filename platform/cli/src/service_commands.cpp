@@ -91,14 +91,16 @@ int runStatus(const StatusCommandOptions& options) {
             std::snprintf(
                 line, sizeof(line),
                 "vifusiond: %s, %.1f frames/s, latency %.0f ms, %llu frames (%llu lost, %llu IMU-carried, "
-                "%llu without usable IMU), %u surfels, %llu loop closures (%llu refused), camera ring %u/%u "
+                "%llu without usable IMU), %u surfels, %llu loop closures (%llu agreed, %llu refused), %llu "
+                "relocalisations, camera ring %u/%u "
                 "(%llu overruns), heartbeat %llu\n",
                 trackingName(s.tracking_state), static_cast<double>(s.frame_rate_hz), static_cast<double>(s.latency_ms),
                 static_cast<unsigned long long>(s.frames_processed), static_cast<unsigned long long>(s.lost_frames),
                 static_cast<unsigned long long>(s.imu_carried_frames),
                 static_cast<unsigned long long>(s.imu_issue_frames), s.surfel_count,
                 static_cast<unsigned long long>(s.closures_accepted),
-                static_cast<unsigned long long>(s.closures_refused), s.camera_ring.fill, s.camera_ring.capacity,
+                static_cast<unsigned long long>(s.closures_agreed), static_cast<unsigned long long>(s.closures_refused),
+                static_cast<unsigned long long>(s.relocalisations), s.camera_ring.fill, s.camera_ring.capacity,
                 static_cast<unsigned long long>(s.camera_ring.overruns), static_cast<unsigned long long>(s.heartbeat));
             status_text = line;
             have_status = true;

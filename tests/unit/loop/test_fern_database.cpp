@@ -14,6 +14,7 @@
 #include "vifusion/loop/fern_encoder.hpp"
 #include "vifusion/loop/fern_image.hpp"
 #include "vifusion/loop/fern_options.hpp"
+#include "vifusion/test/box_scene.hpp"
 #include "vifusion/test/counting_allocations.hpp"
 #include "vifusion/test/expect_error.hpp"
 
@@ -23,54 +24,11 @@ namespace {
 constexpr int kWidth = 640;
 constexpr int kHeight = 480;
 
-/// A synthetic scene: a background and boxes at random places with random colours and depths. Integer
-/// draws only (std::mt19937's output is specified), so the frames are the same everywhere.
 RgbdFrame makeScene(std::uint32_t seed, int width = kWidth, int height = kHeight) {
-  std::mt19937 rng(seed);
-  RgbdFrame frame;
-  frame.depth_scale_m = 0.001;
-  frame.rgb.resize(width, height,
-                   Rgb8{static_cast<std::uint8_t>(rng() % 256), static_cast<std::uint8_t>(rng() % 256),
-                        static_cast<std::uint8_t>(rng() % 256)});
-  frame.depth.resize(width, height, static_cast<std::uint16_t>(1000 + rng() % 2900));
-  for (int box = 0; box < 40; ++box) {
-    const int x0 = static_cast<int>(rng() % static_cast<std::uint32_t>(width));
-    const int y0 = static_cast<int>(rng() % static_cast<std::uint32_t>(height));
-    const int w = 32 + static_cast<int>(rng() % 160);
-    const int h = 32 + static_cast<int>(rng() % 160);
-    const Rgb8 colour{static_cast<std::uint8_t>(rng() % 256), static_cast<std::uint8_t>(rng() % 256),
-                      static_cast<std::uint8_t>(rng() % 256)};
-    const auto depth_mm = static_cast<std::uint16_t>(450 + rng() % 3500);
-    for (int y = y0; y < std::min(height, y0 + h); ++y) {
-      for (int x = x0; x < std::min(width, x0 + w); ++x) {
-        frame.rgb(x, y) = colour;
-        frame.depth(x, y) = depth_mm;
-      }
-    }
-  }
-  return frame;
+  return test::makeBoxScene(seed, width, height);
 }
 
-std::uint8_t clampByte(int v) { return static_cast<std::uint8_t>(std::clamp(v, 0, 255)); }
-
-/// The same view with a global colour shift (exposure), per-pixel colour noise and 1 % depth noise.
-RgbdFrame noisyCopy(const RgbdFrame& frame, int shift, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  RgbdFrame out = frame;
-  for (int y = 0; y < frame.rgb.height(); ++y) {
-    for (int x = 0; x < frame.rgb.width(); ++x) {
-      const Rgb8 c = frame.rgb(x, y);
-      out.rgb(x, y) = Rgb8{clampByte(c.r + shift + static_cast<int>(rng() % 17) - 8),
-                           clampByte(c.g + shift + static_cast<int>(rng() % 17) - 8),
-                           clampByte(c.b + shift + static_cast<int>(rng() % 17) - 8)};
-      const int d = frame.depth(x, y);
-      const int noise = d / 100;  // 1 %
-      out.depth(x, y) =
-          static_cast<std::uint16_t>(d + static_cast<int>(rng() % static_cast<std::uint32_t>(2 * noise + 1)) - noise);
-    }
-  }
-  return out;
-}
+using test::noisyCopy;
 
 FernCodes codesOf(std::initializer_list<int> values) {
   FernCodes codes(static_cast<int>(values.size()));

@@ -50,6 +50,12 @@ struct TrackerOptions {
   /// new view (sim:fast at 640×480, RGB-D-inertial: 403 of 601 frames lost, ATE 453 mm; the
   /// aligned share of the covered pixels never fell below 0.5 there: 0 lost, 14.3 mm).
   double min_inlier_fraction = 0.2;
+  /// After a lost frame the health test above is not enough: from a guess seconds old (the last tracked pose
+  /// after a covered camera) a frame can find a few surfaces of the old view within the innovation bound and
+  /// pass it while most of the frame sees elsewhere (tests/bench/README.md, "Relocalisation"). A frame that
+  /// ends a loss must also have this share of its valid level-0 pixels as ICP inliers: the loop closure's
+  /// overlap test (model_registration.hpp), ElasticFusion's 35 000 of 640×480. In (0, 1].
+  double min_recovered_inlier_share = 0.1;
   /// ICP degeneracy at the coarse levels. The point-to-plane term constrains translation only along
   /// the normals of the surfaces in view: two planes (wall and ceiling) leave their common direction
   /// free, yet noisy normals give it a formal information that looks decisive, while the residuals of
@@ -75,6 +81,12 @@ struct TrackerOptions {
   /// fixes of issue 4). Such a frame keeps the guess and is not fused, and the velocity is reset, so
   /// the run-away stops instead of corrupting the map (ElasticFusion: a 0.3 m jump is rejected).
   double max_motion_innovation_m = 0.05;
+  /// A place guess (TrackingGuess::kPlace: a recognised keyframe's pose, relocaliser.hpp) may be corrected by
+  /// at most this much [m], [rad]; the motion prior's σ are these too, so the prior holds only the directions
+  /// no dense term sees, over the whole accepted range. ElasticFusion refuses a 0.3 m jump, and dense
+  /// alignment has no wider basin; 0.2 rad as the loop closure's registration (model_registration.hpp).
+  double max_place_correction_m = 0.3;
+  double max_place_correction_rad = 0.2;
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
 };
@@ -83,6 +95,15 @@ struct TrackerOptions {
 enum class ReferencePixels {
   kMap,         ///< the map's prediction only
   kMapAndFill,  ///< also the holes filled in from the previous fused frame (the fallback)
+};
+
+/// What track()'s guess is.
+enum class TrackingGuess {
+  /// The previous pose moved by the constant-velocity motion: the motion prior and max_motion_innovation_m.
+  kMotion,
+  /// A recognised place's keyframe pose (relocalisation): it is as far from the camera as keyframes are apart,
+  /// not one frame's acceleration away, so max_place_correction_m/_rad bound it instead.
+  kPlace,
 };
 
 /// The outcome of aligning one frame.
@@ -113,7 +134,8 @@ class DenseTracker {
   /// Uploads and preprocesses a frame (no allocation).
   void preprocess(const RgbdFrame& frame);
   /// Aligns the preprocessed frame to the reference view starting from `T_ref_cur_guess`.
-  TrackingResult track(const SE3d& T_ref_cur_guess, ReferencePixels reference = ReferencePixels::kMap);
+  TrackingResult track(const SE3d& T_ref_cur_guess, ReferencePixels reference = ReferencePixels::kMap,
+                       TrackingGuess guess = TrackingGuess::kMotion);
   /// A guess of the motion from the previous frame to this one with its rotation refined by the
   /// rotation-only pre-alignment (unchanged when that is off or there is no previous frame).
   SE3d prealignRotation(const SE3d& T_prev_cur_guess) const;
@@ -129,6 +151,8 @@ class DenseTracker {
   NormalEquations6 icpEquations(int level) const;
   /// The tracking-health test on the statistics of a final level-0 evaluation (see min_inlier_fraction).
   bool healthy(const TrackingResult& statistics) const;
+  /// The stricter test of a frame that ends a loss (see min_recovered_inlier_share).
+  bool explainsFrame(const TrackingResult& statistics) const;
 
   const TrackerOptions& options() const { return options_; }
 

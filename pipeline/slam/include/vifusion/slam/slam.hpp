@@ -35,6 +35,7 @@
 #include "vifusion/slam/dense_tracker.hpp"
 #include "vifusion/slam/loop_closure.hpp"
 #include "vifusion/slam/reference_fill.hpp"
+#include "vifusion/slam/relocaliser.hpp"
 #include "vifusion/slam/tracking_state.hpp"
 
 namespace vifusion::slam {
@@ -66,6 +67,8 @@ struct SlamOptions {
   ReferenceFillOptions fill;
   /// Local loop closure by map deformation (loop_closure.hpp); `enabled = false` is open-loop odometry.
   LoopClosureOptions loop;
+  /// Relocalisation of a lost camera by place recognition (relocaliser.hpp).
+  RelocalisationOptions relocalisation;
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -111,6 +114,11 @@ struct FrameResult {
   /// frame to frame, while T_W_O jumps at a closure.
   SE3d T_W_O;
 
+  /// The frame was lost to the recovery's own guesses and tracked from a recognised place (relocaliser.hpp):
+  /// its pose jumps to where the map says the camera is (the odometry's too: nothing continuous links it to
+  /// the last tracked frame).
+  bool relocalised = false;
+
   /// Not fused, and the pose is no more than a guess.
   bool lost() const { return tracking == TrackingState::kLost; }
 };
@@ -138,6 +146,9 @@ class Slam {
     return loop_closure_ ? loop_closure_->deformPose(T_W_C, frame) : T_W_C;
   }
 
+  /// Keyframes in the relocalisation database (0 when relocalisation is off).
+  int keyframes() const { return relocaliser_ ? relocaliser_->keyframes() : 0; }
+
   uint64_t arenaBytes() const { return arena_->allocatedBytes(); }
   const gpu::MemoryArena& arena() const { return *arena_; }
   const map::MapBuffers& map() const { return *map_; }
@@ -152,6 +163,11 @@ class Slam {
   /// The dense tracker from one guess: with the fill-in when the map covers too little of the reference view,
   /// else against the map's pixels and, when that fails, with the fill-in too.
   TrackingResult trackMapThenFill(const SE3d& T_reference_current_guess);
+  /// For a frame the other guesses lost: looks it up among the keyframes and tracks it against the map rendered
+  /// at the nearest one's pose (a place guess). True, with `tracking` relative to that pose and T_W_place set,
+  /// when that passes the tracker's tests and the relocaliser's inlier test; the reference view is then the
+  /// map at the keyframe's pose, else it is left for the caller to render again.
+  bool relocalise(TrackingResult& tracking, SE3d& T_W_place);
   /// The two-state estimator's frame; falls back to trackRgbd() when the IMU samples are refused.
   void trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result);
   /// kImuCarried while the estimator's pose uncertainty is within ImuCarryOptions' bound, else kLost.
@@ -180,6 +196,7 @@ class Slam {
   std::unique_ptr<map::MapExport> exporter_;
   std::unique_ptr<ReferenceFill> reference_fill_;
   std::unique_ptr<LoopClosure> loop_closure_;                ///< when LoopClosureOptions::enabled
+  std::unique_ptr<Relocaliser> relocaliser_;                 ///< when RelocalisationOptions::enabled
   std::unique_ptr<TrackerDenseTerms> dense_terms_;           ///< inertial modes
   std::unique_ptr<estimator::TwoStateEstimator> estimator_;  ///< inertial modes
   std::unique_ptr<gpu::MemoryArena> arena_;

@@ -170,6 +170,8 @@ inline void expectSame(const msg::Status& a, const msg::Status& b, const std::st
   EXPECT_EQ(a.imu_carried_frames, b.imu_carried_frames) << path << ".imu_carried_frames";
   EXPECT_EQ(a.closures_accepted, b.closures_accepted) << path << ".closures_accepted";
   EXPECT_EQ(a.closures_refused, b.closures_refused) << path << ".closures_refused";
+  EXPECT_EQ(a.closures_agreed, b.closures_agreed) << path << ".closures_agreed";
+  EXPECT_EQ(a.relocalisations, b.relocalisations) << path << ".relocalisations";
 }
 
 }  // namespace vifusion::dds::test

@@ -95,6 +95,8 @@ SampleMessages::SampleMessages() {
   status.imu_carried_frames = 29;
   status.closures_accepted = 3;
   status.closures_refused = 41;
+  status.closures_agreed = 5;
+  status.relocalisations = 2;
 }
 
 }  // namespace vifusion::dds::test

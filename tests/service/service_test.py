@@ -89,7 +89,7 @@ def check_status_command():
         result = subprocess.run([f"{BIN}/vifusion", "status", "--timeout", "3", *ECHO_ARGS],
                                 capture_output=True, text=True, timeout=30)
         summary = re.search(r"^vifusiond: \w+, [\d.]+ frames/s, latency \d+ ms, (\d+) frames \((\d+) lost, "
-                            r"(\d+) IMU-carried, (\d+) without usable IMU\), \d+ surfels, \d+ loop closures \(\d+ refused\), "
+                            r"(\d+) IMU-carried, (\d+) without usable IMU\), \d+ surfels, \d+ loop closures \(\d+ agreed, \d+ refused\), \d+ relocalisations, "
                             r"camera ring \d+/\d+ \(\d+ overruns\)",
                             result.stdout, re.MULTILINE)
         if result.returncode == 0 and summary and "health: OK" in result.stdout:

@@ -144,6 +144,8 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.imu_carried_frames = state_.imu_carried_frames.load();
   status.closures_accepted = state_.closures_accepted.load();
   status.closures_refused = state_.closures_refused.load();
+  status.closures_agreed = state_.closures_agreed.load();
+  status.relocalisations = state_.relocalisations.load();
   status_.write(status);
 }
 

@@ -38,7 +38,10 @@ void SlamWorker::run() {
         ++state_.closures_accepted;
       } else if (result.closure.outcome == slam::ClosureOutcome::kRefused) {
         ++state_.closures_refused;
+      } else if (result.closure.outcome == slam::ClosureOutcome::kAgreed) {
+        ++state_.closures_agreed;
       }
+      if (result.relocalised) ++state_.relocalisations;
       trajectory_.push_back({result.t_ns, result.T_W_C});
       const std::uint64_t processed = state_.frames_processed.load() + 1;
       if (result.lost()) ++state_.lost_frames;

@@ -252,6 +252,8 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "imu_carried_frames", message.imu_carried_frames);
   field(json, "closures_accepted", message.closures_accepted);
   field(json, "closures_refused", message.closures_refused);
+  field(json, "closures_agreed", message.closures_agreed);
+  field(json, "relocalisations", message.relocalisations);
   json.endObject();
 }
 

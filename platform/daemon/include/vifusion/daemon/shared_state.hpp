@@ -90,6 +90,8 @@ struct SharedState {
   std::atomic<std::uint64_t> imu_carried_frames{0};  ///< inertial modes: frames the IMU carried
   std::atomic<std::uint64_t> closures_accepted{0};   ///< loop closures that deformed the map
   std::atomic<std::uint64_t> closures_refused{0};    ///< loop-closure attempts a test refused
+  std::atomic<std::uint64_t> closures_agreed{0};     ///< closures within their noise: reactivation only
+  std::atomic<std::uint64_t> relocalisations{0};     ///< lost frames tracked again from a recognised place
   std::atomic<int> exit_code{0};
 
   void fail(int code) {

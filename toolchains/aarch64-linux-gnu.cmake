@@ -2,7 +2,8 @@
 #
 #   apt-get install g++-aarch64-linux-gnu qemu-user      # crossbuild-essential-arm64 pulls in the same
 #   cmake -S . -B build-aarch64 -G Ninja -DCMAKE_TOOLCHAIN_FILE=toolchains/aarch64-linux-gnu.cmake \
-#         -DVIFUSION_WITH_GPU=OFF -DVIFUSION_WITH_DATASETS=OFF -DVIFUSION_BUILD_BENCHMARKS=OFF \
+#         -DVIFUSION_WITH_GPU=OFF -DVIFUSION_WITH_DATASETS=OFF -DVIFUSION_WITH_LIVE_DRIVERS=OFF \
+#         -DVIFUSION_BUILD_BENCHMARKS=OFF \
 #         -DGTest_DIR=<GoogleTest built with this file>/lib/cmake/GTest
 #
 # .ci/cross-aarch64 does all of it, GoogleTest included; toolchains/README.md explains the choices.

@@ -19,7 +19,6 @@ SlidingLowerHull::SlidingLowerHull(std::size_t capacity) {
 
 void SlidingLowerHull::clear() {
   oldest_id_ = next_id_;
-  device_sum_ns_ = 0;
   hull_begin_ = 0;
   hull_size_ = 0;
 }
@@ -27,13 +26,11 @@ void SlidingLowerHull::clear() {
 void SlidingLowerHull::push(ClockPoint point) {
   assert(empty() || point.device_ns > newest().device_ns);
   if (size() == capacity()) {
-    device_sum_ns_ -= oldest().device_ns;
     ++oldest_id_;
     repairFront();
   }
   const std::uint64_t id = next_id_++;
   points_[id % points_.size()] = point;
-  device_sum_ns_ += point.device_ns;
   while (hull_size_ >= 2 && !strictlyBelow(hullId(hull_size_ - 2), hullId(hull_size_ - 1), id)) --hull_size_;
   hull_[(hull_begin_ + hull_size_) % hull_.size()] = id;
   ++hull_size_;
@@ -42,15 +39,9 @@ void SlidingLowerHull::push(ClockPoint point) {
 void SlidingLowerHull::expireBefore(std::int64_t oldest_kept_device_ns) {
   const std::uint64_t before = oldest_id_;
   while (!empty() && oldest().device_ns < oldest_kept_device_ns) {
-    device_sum_ns_ -= oldest().device_ns;
     ++oldest_id_;
   }
   if (oldest_id_ != before) repairFront();
-}
-
-std::int64_t SlidingLowerHull::meanDeviceNs() const {
-  assert(!empty());
-  return static_cast<std::int64_t>(device_sum_ns_ / static_cast<Int128>(size()));
 }
 
 std::size_t SlidingLowerHull::edgeAt(std::int64_t device_ns) const {
@@ -71,21 +62,25 @@ std::size_t SlidingLowerHull::edgeAt(std::int64_t device_ns) const {
 
 std::size_t SlidingLowerHull::supportingVertex(double skew) const {
   assert(hull_size_ >= 1);
-  // Relative to vertex 0, with the slope's 1 taken in integers: only the small skew term meets a double.
-  const ClockPoint first = vertex(0);
-  std::size_t best = 0;
-  double best_height_ns = 0.0;
-  for (std::size_t i = 1; i < hull_size_; ++i) {
-    const ClockPoint v = vertex(i);
-    const std::int64_t dx_ns = v.device_ns - first.device_ns;
-    const double height_ns =
-        static_cast<double>((v.host_ns - first.host_ns) - dx_ns) - skew * static_cast<double>(dx_ns);
-    if (height_ns < best_height_ns) {
-      best_height_ns = height_ns;
-      best = i;
+  // Along edge i the height host − (1 + skew)·device changes by (Δhost − Δdevice) − skew·Δdevice, and on a
+  // lower hull these edge slopes increase: the lowest vertex is the left end of the first edge that does
+  // not descend. Binary search over the edges; the 1 of the slope is taken in integers so only the small
+  // skew term meets a double.
+  std::size_t low = 0;                // first edge that may not descend
+  std::size_t high = hull_size_ - 1;  // one past the last edge
+  while (low < high) {
+    const std::size_t edge = (low + high) / 2;
+    const ClockPoint a = vertex(edge);
+    const ClockPoint b = vertex(edge + 1);
+    const std::int64_t dx_ns = b.device_ns - a.device_ns;
+    const bool descends = static_cast<double>((b.host_ns - a.host_ns) - dx_ns) < skew * static_cast<double>(dx_ns);
+    if (descends) {
+      low = edge + 1;
+    } else {
+      high = edge;
     }
   }
-  return best;
+  return low;
 }
 
 bool SlidingLowerHull::strictlyBelow(std::uint64_t left, std::uint64_t middle, std::uint64_t right) const {

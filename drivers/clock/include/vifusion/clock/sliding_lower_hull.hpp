@@ -61,8 +61,6 @@ class SlidingLowerHull {
   /// Precondition for the three below: not empty.
   ClockPoint oldest() const { return point(oldest_id_); }
   ClockPoint newest() const { return point(next_id_ - 1); }
-  /// Mean device time of the points in the window [ns], rounded toward zero.
-  std::int64_t meanDeviceNs() const;
 
   /// Hull vertices, oldest first; vertex(0) is oldest() and the last one is newest().
   std::size_t vertexCount() const { return hull_size_; }
@@ -73,7 +71,8 @@ class SlidingLowerHull {
   std::size_t edgeAt(std::int64_t device_ns) const;
 
   /// The vertex with the lowest host_ns − (1 + skew)·device_ns: where a line of slope 1 + skew [host ns
-  /// per device ns] touches the hull from below. Precondition: not empty.
+  /// per device ns] touches the hull from below (on a tie, the older vertex). O(log vertexCount()).
+  /// Precondition: not empty.
   std::size_t supportingVertex(double skew) const;
 
  private:
@@ -89,7 +88,6 @@ class SlidingLowerHull {
   std::vector<ClockPoint> points_;   ///< ring of the window's points, slot = id % capacity
   std::uint64_t oldest_id_ = 0;      ///< id of the oldest point in the window
   std::uint64_t next_id_ = 0;        ///< id the next pushed point gets
-  Int128 device_sum_ns_ = 0;         ///< sum of device_ns over the window (for the mean)
   std::vector<std::uint64_t> hull_;  ///< ring of vertex ids, oldest first
   std::size_t hull_begin_ = 0;
   std::size_t hull_size_ = 0;

@@ -61,6 +61,15 @@ CounterUpdate CounterUnwrapper::update(std::uint64_t raw) {
   return result;
 }
 
+std::int64_t CounterUnwrapper::nearestCount(std::uint64_t raw) const {
+  const std::uint64_t period = static_cast<std::uint64_t>(period_);
+  if (!started_ || raw >= period) return count_;
+  const std::uint64_t step = (raw - last_raw_) & (period - 1);
+  // Forward by less than half a period, otherwise back by the rest of the period.
+  return step < period / 2 ? count_ + static_cast<std::int64_t>(step)
+                           : count_ - static_cast<std::int64_t>(period - step);
+}
+
 void CounterUnwrapper::reset() {
   started_ = false;
   last_raw_ = 0;

@@ -36,6 +36,7 @@ TEST(ClockAllocation, PerSamplePathAllocatesNothing) {
     checksum += mapper.addSample(zr300TicksToNs(tick.count), s.receive_ns).accepted() ? 1 : 0;
     checksum += mapper.addSample(-1, s.receive_ns).accepted() ? 1 : 0;
     checksum += ticks.update(raw_ticks == 0 ? 1 : static_cast<std::uint64_t>(raw_ticks - 1)).count;
+    checksum += ticks.nearestCount(static_cast<std::uint64_t>(raw_ticks));
     checksum += mapper.toHostNs(zr300TicksToNs(tick.count)).value_or(0) + mapper.offsetNs();
   }
   EXPECT_EQ(vifusion::test::heapAllocationCount(), before);

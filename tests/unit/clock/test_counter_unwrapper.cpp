@@ -128,6 +128,27 @@ TEST(CounterUnwrapper, ThirtyTwoBitTicksAcrossTheWrapGiveMonotoneTime) {
   EXPECT_EQ(unwrapper.stats().wraps, 1u);
 }
 
+TEST(CounterUnwrapper, NearestCountPutsOtherSourcesOnTheSameTimeBase) {
+  // The transfer's newest tick has just wrapped; a gyro sample in the same transfer is 100 ticks older,
+  // from before the wrap, and a frame event 50 ticks newer.
+  CounterUnwrapper ticks(kZr300TickCounterBits);
+  ticks.update(k32BitPeriod - 1000);
+  ticks.update(20);  // across the wrap: count 2^32 + 20
+  const std::int64_t reference = static_cast<std::int64_t>(k32BitPeriod) + 20;
+  EXPECT_EQ(ticks.count(), reference);
+  EXPECT_EQ(ticks.nearestCount(k32BitPeriod - 80), reference - 100);
+  EXPECT_EQ(ticks.nearestCount(70), reference + 50);
+  EXPECT_EQ(ticks.nearestCount(20), reference);
+  // Half a period away is taken as behind (the same rule as update()).
+  EXPECT_EQ(ticks.nearestCount(20 + k32BitPeriod / 2), reference - static_cast<std::int64_t>(k32BitPeriod / 2));
+  // Nothing changed, and nonsense gives the current count.
+  EXPECT_EQ(ticks.count(), reference);
+  EXPECT_EQ(ticks.nearestCount(k32BitPeriod), reference);
+  EXPECT_EQ(ticks.stats().values, 2u);
+  const CounterUnwrapper fresh(kZr300TickCounterBits);
+  EXPECT_EQ(fresh.nearestCount(5), 0);
+}
+
 TEST(CounterUnwrapper, RejectsUnsupportedWidths) {
   test::expectError([] { CounterUnwrapper unwrapper(1); }, "bits = 1 must be in [2, 62]");
   test::expectError([] { CounterUnwrapper unwrapper(63); }, "bits = 63 must be in [2, 62]");

@@ -68,6 +68,15 @@ class CounterUnwrapper {
   /// Feeds the next raw counter value (as read from the device) and says what it did.
   CounterUpdate update(std::uint64_t raw);
 
+  /// The unwrapped count of `raw` that lies nearest the last applied count (within half a period either
+  /// way), without changing any state: for values that share this counter's clock but arrive in their own
+  /// order. The ZR300 stamps accelerometer, gyro and frame events with one tick counter, but a transfer may
+  /// hold a gyro sample a few ticks older than the accelerometer sample before it; unwrapping every source
+  /// against one reference (the transfer's newest tick, fed to update()) keeps them on one time base, where
+  /// separate unwrappers that start on either side of a wrap would differ by a whole period.
+  /// Precondition: started() and raw < period(); otherwise returns count().
+  std::int64_t nearestCount(std::uint64_t raw) const;
+
   /// Forgets the last value: the next update() is kFirst and starts the count afresh. Statistics stay.
   void reset();
 

@@ -17,13 +17,14 @@ struct ClockMapperOptions {
   /// crystal warming up) is followed fully one window after it happened; a longer window averages the
   /// skew over more samples. Drift changes of a few ppm per minute make 20 s a fair trade. (0, 3600].
   double window_s = 20.0;
-  /// Most samples the window holds: the memory reserved at construction (16 B per sample, plus 16 B of
-  /// hull). When full the oldest expire even if younger than window_s. 16384 covers 20 s at 450
-  /// transfers/s with room for faster links. >= min_samples.
+  /// Most samples the window holds: the memory reserved at construction (32 B per sample: the point, a
+  /// hull slot and a scratch slot). When full the oldest expire even if younger than window_s. 16384
+  /// covers 20 s at 450 transfers/s with room for faster links. >= min_samples.
   std::size_t window_samples = 16384;
   /// Device-time span the window must cover before the hull's fit is used [s]. Before that the mapper
-  /// only shifts by the lowest-latency sample (with the last valid skew, or 0) and says kWarmingUp: at
-  /// 50 ppm and 450 transfers/s, 2 s of data fixes the skew to well under 1 ppm. (0, window_s).
+  /// only shifts by the lowest-latency sample (with the last valid skew, or 0) and says kWarmingUp. 2 s is
+  /// where the fit already beats that (µs against a sample's latency of up to hundreds of µs), not where
+  /// it is best: the skew keeps sharpening until the window is full. (0, window_s).
   double min_span_s = 2.0;
   /// Samples the window must hold before the fit is used. >= 2.
   std::size_t min_samples = 64;

@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "vifusion/v4l2/device_io.hpp"
 #include "vifusion/v4l2/frame_counter_gaps.hpp"

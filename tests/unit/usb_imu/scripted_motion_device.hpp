@@ -79,6 +79,10 @@ class ScriptedMotionDevice final : public UsbLink {
   std::int64_t trueHostNs(std::int64_t device_offset_ns) const;
   const ScriptOptions& options() const { return options_; }
   std::size_t transferCount() const { return offsets_.size(); }
+  /// The bytes of transfer `index` (< transferCount()), for a device emulated below libusb.
+  std::span<const std::uint8_t> transferBytes(std::size_t index) const {
+    return std::span(stream_bytes_).subspan(offsets_[index], sizes_[index]);
+  }
 
  private:
   void buildStream();

@@ -45,6 +45,7 @@ bool MotionModule::start() {
     throw Error(message);
   };
   UsbStatus status = link_->open(motion::kMotionInterfaceNumber);
+  if (status != UsbStatus::kOk) link_->close();  // a half-open link (fd open, claim refused) lets go now
   if (status == UsbStatus::kNoDevice) return unplugged();
   if (status != UsbStatus::kOk) {
     fail("opening the adapter and claiming interface " + std::to_string(motion::kMotionInterfaceNumber), status);

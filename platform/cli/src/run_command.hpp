@@ -18,9 +18,9 @@ struct RunOptions {
   int max_frames = 0;                        ///< > 0: stop after this many frames
   bool photometric = true;                   ///< use the photometric term besides ICP
   std::uint32_t map_capacity = map::MapOptions{}.capacity;  ///< surfels the map holds (fixed memory)
-  bool loop_closure = true;  ///< local loop closure by map deformation (off: the paper's open-loop odometry)
+  bool loop_closure = true;    ///< local loop closure by map deformation (off: the paper's open-loop odometry)
   bool relocalisation = true;  ///< relocalise a lost camera by place recognition (slam/relocaliser.hpp)
-  bool gravity_term = true;  ///< the paper's E_imu in the deformation energy (inertial modes; the ablation when off)
+  bool gravity_term = true;    ///< the paper's E_imu in the deformation energy (inertial modes; the ablation when off)
 };
 
 int runPipeline(const RunOptions& options);

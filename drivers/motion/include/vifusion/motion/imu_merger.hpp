@@ -8,8 +8,8 @@
 // grow fastest when integrated (a rotation error tilts gravity into the velocity), so its samples pass
 // through unaltered; the accelerometer is sampled more densely (≈250 Hz against ≈200 Hz, unconfirmed), so
 // the interpolation spans a shorter interval. A straight line between samples Δt apart errs by at most
-// Δt²/8·|d²a/dt²|: 2 mm/s² for Δt = 4 ms even at a violent 1000 m/s⁴, below one 12-bit count (19 mm/s² at
-// ±4 g). Interpolation is linear in time, a0 + (t − t0)/(t1 − t0)·(a1 − a0), exact for a linear signal.
+// Δt²/8·|d²a/dt²|, which for Δt ≤ 4 ms stays below one 12-bit count at ±4 g even at a violent 1000 m/s⁴.
+// Interpolation is linear in time, a0 + (t − t0)/(t1 − t0)·(a1 − a0), exact for a linear signal.
 //
 // Never extrapolates: a gyro sample is emitted only once an accelerometer sample at or after its time
 // exists (and one at or before it). Dropped and counted, with a message (describe(MergeProblem)):

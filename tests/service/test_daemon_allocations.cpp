@@ -35,7 +35,7 @@
 #include <vector>
 
 #include "vifusion/core/time.hpp"
-#include "vifusion/daemon/imu_feed.hpp"
+#include "vifusion/core/imu_feed.hpp"
 #include "vifusion/daemon/publisher.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/daemon/slam_worker.hpp"

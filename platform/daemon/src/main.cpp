@@ -12,7 +12,7 @@
 #include "vifusion/core/time.hpp"
 #include "vifusion/daemon/frame_reader.hpp"
 #include "vifusion/daemon/frame_source.hpp"
-#include "vifusion/daemon/imu_feed.hpp"
+#include "vifusion/core/imu_feed.hpp"
 #include "vifusion/daemon/publisher.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
 #include "vifusion/service/log.hpp"

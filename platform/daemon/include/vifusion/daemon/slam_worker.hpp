@@ -14,7 +14,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "vifusion/daemon/imu_feed.hpp"
+#include "vifusion/core/imu_feed.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"

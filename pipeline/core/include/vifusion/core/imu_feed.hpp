@@ -10,22 +10,18 @@
 // reader's imu() span every time. The span is the reader's and stays valid for the reader's lifetime,
 // so the reader must outlive the SLAM thread (vifusiond's serve() joins the threads before it goes).
 //
-// A live IMU (later: the ZR300 driver thread pushing ImuSample into an SpscRing<ImuSample>) fits the
-// same call: a LiveImuFeed would own, besides the ring, a window buffer reserved at start (ring capacity
-// plus the samples of the longest allowed frame interval and the gravity window); samplesThrough() drains
-// the ring into the window's end, waits a bounded time (a few IMU periods) for the first sample at or
-// after the frame's IMU time (t_cam + calibration.time_shift_cam_imu_ns) so the frame is interpolated,
-// never extrapolated, drops from the window's front what precedes the last sample at or before the
-// previous frame, and returns the window. A frame whose samples do not arrive in time is then refused by
-// the pipeline's own checks (imu::checkSampleWindow → FrameResult::imu_issue), counted, never fatal —
-// exactly like a gap in a recording. Its ring counters would fill Status.imu_ring.
+// A live IMU (the ZR300 motion module's driver thread pushing into an SpscRing<ImuSample>) fits the same
+// call: LiveImuFeed (live_imu_feed.hpp) drains the ring into a window reserved at start and waits a bounded
+// time for the sample that covers the frame. A frame whose samples do not arrive in time is refused by the
+// pipeline's own checks (imu::checkSampleWindow → FrameResult::imu_issue), counted, never fatal — exactly
+// like a gap in a recording.
 
 #include <cstdint>
 #include <span>
 
 #include "vifusion/core/sensor_data.hpp"
 
-namespace vifusion::daemon {
+namespace vifusion {
 
 class ImuFeed {
  public:
@@ -46,4 +42,4 @@ class RecordedImuFeed final : public ImuFeed {
   std::span<const ImuSample> stream_;
 };
 
-}  // namespace vifusion::daemon
+}  // namespace vifusion

@@ -92,6 +92,11 @@ void MotionModule::stop() {
   state_.compare_exchange_strong(expected, ModuleState::kClosed, std::memory_order_acq_rel);
 }
 
+void MotionModule::replaceLink(std::unique_ptr<UsbLink> link) {
+  stop();
+  link_ = checkedLink(std::move(link));
+}
+
 UsbStatus MotionModule::runStep(const motion::AdapterStep& step) {
   const std::size_t request_bytes = motion::encodeRequest(step.request(), command_buffer_);
   UsbStatus status = link_->bulkWrite(motion::kCommandOutEndpoint, std::span(command_buffer_).first(request_bytes),

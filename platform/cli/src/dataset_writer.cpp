@@ -47,8 +47,10 @@ DatasetWriter::DatasetWriter(const std::filesystem::path& directory) : directory
   std::filesystem::create_directories(directory / "rgb");
   std::filesystem::create_directories(directory / "depth");
   rgb_index_ = openTemporary(directory / "rgb.txt", "# colour images\n# timestamp filename\n");
-  depth_index_ = openTemporary(directory / "depth.txt", "# depth images (16-bit, 5000 per metre)\n# timestamp filename\n");
-  groundtruth_ = openTemporary(directory / "groundtruth.txt", "# ground truth T_world_camera\n# timestamp tx ty tz qx qy qz qw\n");
+  depth_index_ =
+      openTemporary(directory / "depth.txt", "# depth images (16-bit, 5000 per metre)\n# timestamp filename\n");
+  groundtruth_ =
+      openTemporary(directory / "groundtruth.txt", "# ground truth T_world_camera\n# timestamp tx ty tz qx qy qz qw\n");
 }
 
 DatasetWriter::~DatasetWriter() {
@@ -72,8 +74,8 @@ void DatasetWriter::writeFrame(int64_t t_ns, ImageView<const Rgb8> rgb, ImageVie
   std::fprintf(depth_index_, "%s depth/%s.png\n", stamp.c_str(), stamp.c_str());
   const Eigen::Vector3d& t = T_W_C.translation();
   const Eigen::Quaterniond& q = T_W_C.quaternion();
-  std::fprintf(groundtruth_, "%s %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", stamp.c_str(), t.x(), t.y(), t.z(), q.x(), q.y(),
-               q.z(), q.w());
+  std::fprintf(groundtruth_, "%s %.9f %.9f %.9f %.9f %.9f %.9f %.9f\n", stamp.c_str(), t.x(), t.y(), t.z(), q.x(),
+               q.y(), q.z(), q.w());
 }
 
 void DatasetWriter::writeImu(const std::vector<ImuSample>& samples) const {

@@ -3,16 +3,16 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "line_plot.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/time.hpp"
 #include "vifusion/datasets/ground_truth_states.hpp"
+#include "vifusion/eval/alignment.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/ply_points.hpp"
-#include "vifusion/eval/alignment.hpp"
 #include "vifusion/eval/reconstruction_error.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/state_errors.hpp"
@@ -109,9 +109,9 @@ int runEval(const EvalOptions& options) {
     report["rpe"] = {{"delta_s", options.rpe_delta_s}, {"skipped", "estimate spans less than two RPE steps"}};
   } else {
     const eval::RpeResult rpe = eval::rpe(gt, est, options.rpe_delta_s);
-    report["rpe"] = {{"delta_s", options.rpe_delta_s},         {"trans_rmse_m", rpe.trans_rmse_m},
-                     {"trans_mean_m", rpe.trans_mean_m},       {"rot_rmse_deg", rpe.rot_rmse_deg},
-                     {"rot_mean_deg", rpe.rot_mean_deg},       {"pairs", rpe.pairs}};
+    report["rpe"] = {{"delta_s", options.rpe_delta_s},   {"trans_rmse_m", rpe.trans_rmse_m},
+                     {"trans_mean_m", rpe.trans_mean_m}, {"rot_rmse_deg", rpe.rot_rmse_deg},
+                     {"rot_mean_deg", rpe.rot_mean_deg}, {"pairs", rpe.pairs}};
   }
 
   // Velocities, gravity and the map are rotated into the ground truth's world by the alignment of the
@@ -126,12 +126,12 @@ int runEval(const EvalOptions& options) {
 
   std::optional<eval::StateErrors> state_errors;
   if (!options.states.empty()) {
-    const std::filesystem::path gt_states = options.gt_states.empty()
-                                                ? std::filesystem::path(options.gt).parent_path() / "groundtruth_states.csv"
-                                                : std::filesystem::path(options.gt_states);
+    const std::filesystem::path gt_states =
+        options.gt_states.empty() ? std::filesystem::path(options.gt).parent_path() / "groundtruth_states.csv"
+                                  : std::filesystem::path(options.gt_states);
     const Eigen::Vector3d g_gt_W = options.up == "z" ? Eigen::Vector3d(0, 0, -9.81) : Eigen::Vector3d(0, -9.81, 0);
-    state_errors = eval::stateErrors(datasets::readGroundTruthStates(gt_states), eval::readEstimatedStates(options.states),
-                                     T_gt_est.rotationMatrix(), g_gt_W);
+    state_errors = eval::stateErrors(datasets::readGroundTruthStates(gt_states),
+                                     eval::readEstimatedStates(options.states), T_gt_est.rotationMatrix(), g_gt_W);
     report["states"] = {{"velocity_rms_mps", state_errors->velocity_rms_mps},
                         {"velocity_rms_after_5s_mps", state_errors->velocity_rms_after_5s_mps},
                         {"gyro_bias_max_after_15s_rad_s", state_errors->gyro_bias_max_after_15s},
@@ -146,11 +146,14 @@ int runEval(const EvalOptions& options) {
   if (!options.map.empty()) {
     // The true surface is the simulator's analytic living room, in the ground truth's world.
     const scene::LivingRoom room;
-    const eval::ReconstructionError error = eval::reconstructionError(
-        eval::readPlyPositions(options.map), T_gt_est,
-        [&](const Eigen::Vector3d& p_W) { return room.distanceToSurface(p_W); });
-    report["reconstruction"] = {{"mean_m", error.mean_m}, {"median_m", error.median_m}, {"rms_m", error.rms_m},
-                                {"within_1cm", error.within_1cm}, {"points", error.points}};
+    const eval::ReconstructionError error =
+        eval::reconstructionError(eval::readPlyPositions(options.map), T_gt_est,
+                                  [&](const Eigen::Vector3d& p_W) { return room.distanceToSurface(p_W); });
+    report["reconstruction"] = {{"mean_m", error.mean_m},
+                                {"median_m", error.median_m},
+                                {"rms_m", error.rms_m},
+                                {"within_1cm", error.within_1cm},
+                                {"points", error.points}};
   }
 
   if (!options.plots_dir.empty()) {

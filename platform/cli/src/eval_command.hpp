@@ -7,13 +7,13 @@
 namespace vifusion::cli {
 
 struct EvalOptions {
-  std::string gt;         ///< TUM ground-truth trajectory (T_world_camera)
-  std::string est;        ///< TUM estimated trajectory
-  std::string states;     ///< estimator states.csv (optional)
-  std::string gt_states;  ///< groundtruth_states.csv (default: beside --gt)
-  std::string map;        ///< map PLY to score against the simulator's living room (optional)
-  std::string plots_dir;  ///< where to write PNG plots (optional)
-  std::string up = "y";   ///< up axis of the ground truth's world: gravity along −up
+  std::string gt;                  ///< TUM ground-truth trajectory (T_world_camera)
+  std::string est;                 ///< TUM estimated trajectory
+  std::string states;              ///< estimator states.csv (optional)
+  std::string gt_states;           ///< groundtruth_states.csv (default: beside --gt)
+  std::string map;                 ///< map PLY to score against the simulator's living room (optional)
+  std::string plots_dir;           ///< where to write PNG plots (optional)
+  std::string up = "y";            ///< up axis of the ground truth's world: gravity along −up
   double max_difference_s = 0.02;  ///< ATE stamp association window [s]
   double rpe_delta_s = 1.0;        ///< RPE step [s]
 };

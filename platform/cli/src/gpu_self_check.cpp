@@ -1,10 +1,9 @@
 #include "gpu_self_check.hpp"
 
+#include <Eigen/Geometry>
 #include <chrono>
 #include <cstdio>
 #include <functional>
-
-#include <Eigen/Geometry>
 
 #include "synthetic_frame.hpp"
 #include "vifusion/core/error.hpp"
@@ -72,10 +71,10 @@ int runGpuSelfCheck(const SelfCheckOptions& options) {
   reducer_options.max_rows = pixel_count;
   RowReducer reducer(*context, plan, reducer_options);
   // Level-0 vertices and normals are copied out to compare them with the CPU reference.
-  const auto vertices_out = plan.addBuffer("selfcheck.vertices", pixel_count * sizeof(preprocess::VertexPixel),
-                                           gpu::MemoryUse::Readback);
-  const auto normals_out = plan.addBuffer("selfcheck.normals", pixel_count * sizeof(preprocess::NormalPixel),
-                                          gpu::MemoryUse::Readback);
+  const auto vertices_out =
+      plan.addBuffer("selfcheck.vertices", pixel_count * sizeof(preprocess::VertexPixel), gpu::MemoryUse::Readback);
+  const auto normals_out =
+      plan.addBuffer("selfcheck.normals", pixel_count * sizeof(preprocess::NormalPixel), gpu::MemoryUse::Readback);
   const auto arena = gpu::MemoryArena::create(*context, plan);
   stage.build(*arena);
   reducer.build(*arena);
@@ -121,7 +120,8 @@ int runGpuSelfCheck(const SelfCheckOptions& options) {
     const Eigen::Vector3f p = level0.vertices.data()[i].head<3>();
     const Eigen::Vector3f n = level0.normals.data()[i].head<3>();
     const Eigen::Vector3f pxn = p.cross(n);
-    rows[i] = {{n.x(), n.y(), n.z(), pxn.x(), pxn.y(), pxn.z()}, 0.001f * std::sin(0.01f * i),
+    rows[i] = {{n.x(), n.y(), n.z(), pxn.x(), pxn.y(), pxn.z()},
+               0.001f * std::sin(0.01f * i),
                level0.normals.data()[i].w() > 0.0f ? 1.0f : 0.0f};
   }
   auto reduce = gpu::CommandSequence::create(*context, "reduce");
@@ -136,10 +136,10 @@ int runGpuSelfCheck(const SelfCheckOptions& options) {
 
   // Agreement of the full chains (GPU vs CPU reference) on the level-0 outputs.
   cpu.run();
-  const Agreement vertices = compareVec4(arena->buffer(vertices_out).hostSpan<preprocess::VertexPixel>().data(),
-                                         level0.vertices);
-  const Agreement normals = compareVec4(arena->buffer(normals_out).hostSpan<preprocess::NormalPixel>().data(),
-                                        level0.normals);
+  const Agreement vertices =
+      compareVec4(arena->buffer(vertices_out).hostSpan<preprocess::VertexPixel>().data(), level0.vertices);
+  const Agreement normals =
+      compareVec4(arena->buffer(normals_out).hostSpan<preprocess::NormalPixel>().data(), level0.normals);
   std::printf("\nagreement with the CPU reference\n");
   std::printf("vertices   max |Δ| %.2e m, validity mismatches %ld\n", vertices.max_abs, vertices.validity_mismatches);
   std::printf("normals    max |Δ| %.2e,   validity mismatches %ld\n", normals.max_abs, normals.validity_mismatches);

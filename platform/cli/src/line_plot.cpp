@@ -65,7 +65,8 @@ void LinePlot::save(const std::filesystem::path& path, int width, int height) co
   const double x_step = niceStep(x_max - x_min, 8), y_step = niceStep(y_max - y_min, 6);
   for (double x = std::ceil(x_min / x_step) * x_step; x <= x_max + 1e-9 * x_step; x += x_step) {
     cv::line(image, to_pixel(x, y_min), to_pixel(x, y_max), grid, 1);
-    cv::putText(image, tickLabel(x, x_step), to_pixel(x, y_min) + cv::Point2d(-15, 22), font, 0.45, ink, 1, cv::LINE_AA);
+    cv::putText(image, tickLabel(x, x_step), to_pixel(x, y_min) + cv::Point2d(-15, 22), font, 0.45, ink, 1,
+                cv::LINE_AA);
   }
   for (double y = std::ceil(y_min / y_step) * y_step; y <= y_max + 1e-9 * y_step; y += y_step) {
     cv::line(image, to_pixel(x_min, y), to_pixel(x_max, y), grid, 1);
@@ -86,7 +87,8 @@ void LinePlot::save(const std::filesystem::path& path, int width, int height) co
     }
     if (points.size() == 1) cv::circle(image, points[0], 3, colour, cv::FILLED);
     cv::polylines(image, points, false, colour, 2, cv::LINE_AA);
-    cv::line(image, cv::Point(width - right - 200, legend_y - 5), cv::Point(width - right - 170, legend_y - 5), colour, 3);
+    cv::line(image, cv::Point(width - right - 200, legend_y - 5), cv::Point(width - right - 170, legend_y - 5), colour,
+             3);
     cv::putText(image, s.name, cv::Point(width - right - 162, legend_y), font, 0.5, ink, 1, cv::LINE_AA);
     legend_y += 22;
   }

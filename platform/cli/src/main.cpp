@@ -37,8 +37,11 @@ int main(int argc, char** argv) {
       "run",
       "Run the pipeline on a source and write trajectory.txt and report.json (default: the synthetic "
       "living-room sequence, generated on first use)");
-  run->add_option("--source", run_options.source, "sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE or dataset:DIR")
+  run->add_option("--source", run_options.source,
+                  "sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR, or the live camera zr300[:SERIAL]")
       ->capture_default_str();
+  run->add_option("--calibration", run_options.calibration,
+                  "zr300: the rig's calibration.yaml (Kalibr cam0/imu0 keys); its image size picks the stream preset");
   run->add_option("--mode", run_options.mode, "rgbd, rgbdi (tightly coupled IMU) or gyro (gyroscope only)")
       ->capture_default_str();
   run->add_option("--out", run_options.out, "Output directory")->capture_default_str();

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -12,13 +14,19 @@
 #include "frame_log.hpp"
 #include "progress_bar.hpp"
 #include "sim_command.hpp"
+#include "vifusion/config/daemon_config.hpp"
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/imu_feed.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/map/surfel_ply.hpp"
 #include "vifusion/slam/slam.hpp"
+#ifdef VIFUSION_WITH_ZR300
+#include "vifusion/discovery/source_spec.hpp"
+#include "vifusion/zr300/open_zr300.hpp"
+#endif
 
 namespace vifusion::cli {
 namespace {
@@ -37,6 +45,68 @@ std::string datasetSpec(const RunOptions& options) {
     runSim(sim);
   }
   return "dataset:" + dir.string();
+}
+
+/// Poses reserved up front for a live run without --frames: an hour at 30 Hz; longer runs grow the vector.
+constexpr std::size_t kLiveReservedFrames = 108'000;
+
+/// Set by SIGINT/SIGTERM during a live run: the run ends after the current frame and writes its outputs.
+std::atomic<bool> g_interrupted{false};
+#ifdef VIFUSION_WITH_ZR300
+/// The live camera, whose waiting nextFrame() the handler ends (requestStop() only stores a flag).
+std::atomic<zr300::Zr300Source*> g_live_camera{nullptr};
+#endif
+extern "C" void onInterrupt(int) {
+  g_interrupted.store(true);
+#ifdef VIFUSION_WITH_ZR300
+  if (zr300::Zr300Source* camera = g_live_camera.load()) camera->requestStop();
+#endif
+}
+
+/// The run's frames and their IMU samples: a recording hands every frame its whole IMU stream, the live
+/// camera a window of its driver's ring.
+struct RunSource {
+  std::unique_ptr<datasets::DatasetReader> reader;
+  std::unique_ptr<RecordedImuFeed> recorded_imu;
+  ImuFeed* imu = nullptr;  ///< null: the source has no IMU
+};
+
+/// Opens a recording, or returns false (after printing why) when the live camera cannot be opened.
+bool openRunSource(const RunOptions& options, bool inertial, std::unique_ptr<zr300::Zr300Backend> backend,
+                   RunSource& source) {
+#ifdef VIFUSION_WITH_ZR300
+  if (const std::optional<discovery::Zr300SourceSpec> spec = discovery::parseZr300SourceSpec(options.source)) {
+    zr300::Zr300Options live;
+    live.imu = inertial;  // rgbd mode leaves the motion module alone: frames take their kernel times
+    std::unique_ptr<zr300::Zr300Source> camera;
+    try {
+      camera = zr300::openZr300(*spec, options.calibration, live, std::move(backend));
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "vifusion run: cannot open source '%s': %s\n", options.source.c_str(), error.what());
+      return false;
+    }
+    source.imu = camera->imuFeed();
+    g_live_camera.store(camera.get());
+    source.reader = std::move(camera);
+    return true;
+  }
+#else
+  (void)backend;
+  if (options.source.rfind("zr300", 0) == 0) {
+    std::fprintf(stderr,
+                 "vifusion run: cannot open source '%s': this build has no live drivers "
+                 "(configured with VIFUSION_WITH_LIVE_DRIVERS=OFF)\n",
+                 options.source.c_str());
+    return false;
+  }
+#endif
+  source.reader = datasets::openDataset(datasetSpec(options));
+  if (!source.reader->imu().empty()) {
+    source.recorded_imu = std::make_unique<RecordedImuFeed>(source.reader->imu());
+    source.imu = source.recorded_imu.get();
+  }
+  (void)inertial;
+  return true;
 }
 
 double mean(double sum, int count) { return count > 0 ? sum / count : 0.0; }
@@ -129,7 +199,7 @@ class TrackingStateCounts {
 
 }  // namespace
 
-int runPipeline(const RunOptions& options) {
+int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> backend) {
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(options.mode);
   slam_options.tracker.use_photometric = options.photometric;
@@ -139,9 +209,16 @@ int runPipeline(const RunOptions& options) {
   slam_options.relocalisation.enabled = options.relocalisation;
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
-  const auto reader = datasets::openDataset(datasetSpec(options));
-  if (inertial && reader->imu().empty()) {
+  RunSource source;
+  if (!openRunSource(options, inertial, std::move(backend), source)) return config::kExitSource;
+  const std::unique_ptr<datasets::DatasetReader>& reader = source.reader;
+  if (inertial && source.imu == nullptr) {
     throw Error("--mode " + options.mode + " needs IMU data, and " + reader->describe() + " has none");
+  }
+  if (reader->live()) {
+    g_interrupted.store(false);
+    std::signal(SIGINT, onInterrupt);
+    std::signal(SIGTERM, onInterrupt);
   }
 
   gpu::GpuOptions gpu_options;
@@ -149,13 +226,15 @@ int runPipeline(const RunOptions& options) {
   const auto context = gpu::GpuContext::create(gpu_options.withEnvironment());
   slam::Slam pipeline(*context, reader->calibration(), slam_options);
 
-  const std::size_t total =
-      options.max_frames > 0 ? std::min<std::size_t>(options.max_frames, reader->frameCount()) : reader->frameCount();
+  // A live source has no frame count: it runs until --frames, Ctrl-C or SIGTERM.
+  const std::size_t available = reader->live() ? SIZE_MAX : reader->frameCount();
+  const std::size_t total = options.max_frames > 0 ? std::min<std::size_t>(options.max_frames, available) : available;
+  const std::size_t reserved = std::min(total, kLiveReservedFrames);
   std::vector<eval::StampedPose> trajectory;
-  trajectory.reserve(total);
+  trajectory.reserve(reserved);
   std::vector<eval::StateRecord> states;
-  states.reserve(inertial ? total : 0);
-  FrameLog frame_log(total);
+  states.reserve(inertial ? reserved : 0);
+  FrameLog frame_log(reserved);
   int imu_issues = 0;
   int relocalisations = 0;
   RgbdFrame frame;
@@ -165,10 +244,12 @@ int runPipeline(const RunOptions& options) {
   double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
   uint32_t surfels = 0, map_overflow = 0;
   uint64_t map_evicted = 0;
-  ProgressBar progress("tracking", static_cast<int64_t>(total));
+  ProgressBar progress("tracking", static_cast<int64_t>(reserved));
   const auto start = std::chrono::steady_clock::now();
-  while (trajectory.size() < total && reader->nextFrame(frame)) {
-    const slam::FrameResult result = pipeline.process(frame, reader->imu());
+  while (trajectory.size() < total && !g_interrupted.load() && reader->nextFrame(frame)) {
+    const std::span<const ImuSample> imu =
+        inertial ? source.imu->samplesThrough(frame.t_ns) : std::span<const ImuSample>();
+    const slam::FrameResult result = pipeline.process(frame, imu);
     if (result.closure.outcome == slam::ClosureOutcome::kAccepted) {
       // The map moved: so does the trajectory that built it (frame i is the i-th pose kept).
       for (std::size_t i = 0; i < trajectory.size(); ++i) {
@@ -196,6 +277,31 @@ int runPipeline(const RunOptions& options) {
     progress.update(static_cast<int64_t>(trajectory.size()));
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  nlohmann::json camera_report;
+#ifdef VIFUSION_WITH_ZR300
+  g_live_camera.store(nullptr);
+  if (const auto* camera = dynamic_cast<const zr300::Zr300Source*>(reader.get())) {
+    const zr300::Zr300Stats stats = camera->stats();
+    camera_report = {{"frames", stats.frames},
+                     {"rejected_frames", stats.rejected_frames},
+                     {"unpaired_depth", stats.unpaired_depth},
+                     {"unpaired_colour", stats.unpaired_colour},
+                     {"depth_dropped", stats.depth_dropped},
+                     {"colour_dropped", stats.colour_dropped},
+                     {"event_timestamps", stats.event_timestamps},
+                     {"kernel_timestamps", stats.kernel_timestamps},
+                     {"unplugs", stats.unplugs},
+                     {"reopens", stats.reopens},
+                     {"imu_samples", stats.motion.imu_samples},
+                     {"imu_overruns", stats.motion.imu_overruns},
+                     {"clock_offset_ns", stats.motion.clock_offset_ns},
+                     {"clock_skew_ppm", stats.motion.clock_skew_ppm}};
+  }
+#endif
+  if (reader->live()) {
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+  }
 
   // Written to a temporary name and renamed: an interrupted run never leaves a truncated file.
   const std::filesystem::path trajectory_path = std::filesystem::path(options.out) / "trajectory.txt";
@@ -235,6 +341,7 @@ int runPipeline(const RunOptions& options) {
                            {"gauss_newton_iterations_per_frame", mean(iterations, frames)},
                            {"frames_per_s", frames / wall_s},
                            {"arena_bytes", pipeline.arenaBytes()}};
+  if (!camera_report.is_null()) report["camera"] = camera_report;
   if (!reader->groundTruth().empty() && frames >= 3) {
     std::vector<eval::StampedPose> ground_truth;
     for (const datasets::StampedPose& pose : reader->groundTruth())
@@ -261,5 +368,7 @@ int runPipeline(const RunOptions& options) {
   std::printf("%s\n", report.dump().c_str());
   return 0;
 }
+
+int runPipeline(const RunOptions& options) { return runPipeline(options, nullptr); }
 
 }  // namespace vifusion::cli

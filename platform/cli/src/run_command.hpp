@@ -1,28 +1,41 @@
 #pragma once
-// `vifusion run`: the main job. Opens a source (a dataset spec, or `sim:NAME`, which generates the
-// synthetic sequence first), runs the pipeline on every frame and writes trajectory.txt (TUM), map.ply
-// and report.json into the output directory, and in the inertial modes states.csv (eval/state_csv.hpp).
+// `vifusion run`: the main job. Opens a source (a dataset spec, `sim:NAME`, which generates the
+// synthetic sequence first, or the live camera `zr300[:SERIAL]`, which runs until --frames or Ctrl-C), runs the
+// pipeline on every frame and writes trajectory.txt (TUM), map.ply and report.json into the output directory, and in
+// the inertial modes states.csv (eval/state_csv.hpp).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include "vifusion/map/surfel.hpp"
 
+namespace vifusion::zr300 {
+class Zr300Backend;
+}
+
 namespace vifusion::cli {
 
 struct RunOptions {
-  std::string source = "sim:living_room_0";  ///< sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR
-  std::string mode = "rgbd";                 ///< rgbd, rgbdi (with the IMU) or gyro (gyroscope only)
-  std::string out = "vifusion_out";          ///< output directory
-  std::string device;                        ///< GPU name filter
-  int max_frames = 0;                        ///< > 0: stop after this many frames
-  bool photometric = true;                   ///< use the photometric term besides ICP
+  std::string source =
+      "sim:living_room_0";           ///< sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR, zr300[:SERIAL]
+  std::string calibration;           ///< zr300: the rig's calibration.yaml (open_zr300.hpp)
+  std::string mode = "rgbd";         ///< rgbd, rgbdi (with the IMU) or gyro (gyroscope only)
+  std::string out = "vifusion_out";  ///< output directory
+  std::string device;                ///< GPU name filter
+  int max_frames = 0;                ///< > 0: stop after this many frames
+  bool photometric = true;           ///< use the photometric term besides ICP
   std::uint32_t map_capacity = map::MapOptions{}.capacity;  ///< surfels the map holds (fixed memory)
   bool loop_closure = true;    ///< local loop closure by map deformation (off: the paper's open-loop odometry)
   bool relocalisation = true;  ///< relocalise a lost camera by place recognition (slam/relocaliser.hpp)
   bool gravity_term = true;    ///< the paper's E_imu in the deformation energy (inertial modes; the ablation when off)
 };
 
+/// Returns the exit code: 0, or 3 when the live camera cannot be opened (the message on stderr names what is
+/// missing). `backend` reaches the camera for `zr300` sources; null: the real devices (tests pass a scripted
+/// camera). @throws vifusion::Error for every other failure (main() reports it, exit code 2).
+int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> backend);
+/// The same on the real devices.
 int runPipeline(const RunOptions& options);
 
 }  // namespace vifusion::cli

@@ -18,8 +18,8 @@ struct DdsSelection {
 struct EchoCommandOptions {
   DdsSelection dds;
   std::string topic;
-  std::uint64_t count = 0;   ///< 0: no limit
-  double timeout_s = 0.0;    ///< 0: wait for ever
+  std::uint64_t count = 0;  ///< 0: no limit
+  double timeout_s = 0.0;   ///< 0: wait for ever
   bool full_arrays = false;
 };
 

@@ -9,8 +9,8 @@ namespace vifusion::cli {
 namespace {
 
 // Scene in the camera frame (x right, y down, z forward), metres.
-constexpr double kWallZ_m = 3.0;    // back wall plane z = 3
-constexpr double kFloorY_m = 1.2;   // floor plane y = 1.2 (below the camera)
+constexpr double kWallZ_m = 3.0;   // back wall plane z = 3
+constexpr double kFloorY_m = 1.2;  // floor plane y = 1.2 (below the camera)
 const Eigen::Vector3d kSphereCentre_m(0.4, 0.3, 1.8);
 constexpr double kSphereRadius_m = 0.4;
 constexpr double kCheckerSize_m = 0.2;
@@ -24,8 +24,10 @@ void hitPlanes(const Eigen::Vector3d& ray, Hit& hit) {
   const double t_wall = kWallZ_m / ray.z();
   if (t_wall > 0.0 && t_wall < hit.t) {
     const Eigen::Vector3d p = t_wall * ray;
-    const bool dark = (static_cast<int>(std::floor(p.x() / kCheckerSize_m)) +
-                       static_cast<int>(std::floor(p.y() / kCheckerSize_m))) % 2 != 0;
+    const bool dark =
+        (static_cast<int>(std::floor(p.x() / kCheckerSize_m)) + static_cast<int>(std::floor(p.y() / kCheckerSize_m))) %
+            2 !=
+        0;
     hit = {t_wall, dark ? preprocess::Rgb8{40, 60, 90} : preprocess::Rgb8{220, 215, 200}};
   }
   if (ray.y() > 1e-9) {
@@ -49,8 +51,9 @@ void hitSphere(const Eigen::Vector3d& ray, Hit& hit) {
   if (t <= 0.0 || t >= hit.t) return;
   const Eigen::Vector3d normal = (t * ray - kSphereCentre_m) / kSphereRadius_m;
   const double light = std::clamp(-normal.dot(Eigen::Vector3d(0.3, 0.6, 0.74).normalized()), 0.1, 1.0);
-  hit = {t, {static_cast<std::uint8_t>(230 * light), static_cast<std::uint8_t>(90 * light),
-             static_cast<std::uint8_t>(60 * light)}};
+  hit = {t,
+         {static_cast<std::uint8_t>(230 * light), static_cast<std::uint8_t>(90 * light),
+          static_cast<std::uint8_t>(60 * light)}};
 }
 
 }  // namespace

@@ -32,8 +32,12 @@ class DatasetReader {
   /// none; describe() says which).
   virtual const RigCalibration& calibration() const = 0;
 
-  /// Number of frames nextFrame() will deliver in total.
+  /// Number of frames nextFrame() will deliver in total; 0 for a live source, which cannot know.
   virtual std::size_t frameCount() const = 0;
+
+  /// A camera rather than a recording: frames come at the sensor's pace, nextFrame() waits for them, and
+  /// the IMU comes through an ImuFeed over the driver's ring instead of imu().
+  virtual bool live() const { return false; }
 
   /// Decodes the next frame into `frame`, reusing its image buffers when the size is unchanged.
   /// @return false once every frame has been delivered (frame is then untouched).

@@ -53,6 +53,10 @@ class MotionModule final : private InterruptSink {
   /// Ends the thread, runs the stop sequence if the device is still there, releases and closes.
   /// Never throws; leaves kClosed, or kUnplugged if the device went away.
   void stop();
+  /// Stops, then talks to the device through `link` from the next start(): a camera that came back after
+  /// an unplug is a new USB device (new devnum, new usbfs node). The rings stay, so their consumers keep
+  /// their references. @throws vifusion::Error if `link` is null.
+  void replaceLink(std::unique_ptr<UsbLink> link);
 
   ModuleState state() const { return state_.load(std::memory_order_acquire); }
   /// Snapshot of every counter, readable from any thread.

@@ -1,6 +1,6 @@
 #pragma once
 // Depth registered to the colour camera. On an RGB-D camera whose depth and colour come from two
-// cameras (ZR300: depth from the IR stereo pair, colour from a third imager ~25 mm beside it) a depth
+// cameras (ZR300: depth from the IR stereo pair, colour from a third imager beside it) a depth
 // pixel and the colour pixel with the same (u, v) see different points; the pipeline wants both in
 // the colour camera's pixels. DepthRegistration is the calibration that maps one onto the other;
 // registerDepthToColourCpu is the CPU reference of shaders/register_depth.comp.
@@ -28,7 +28,7 @@
 
 namespace vifusion::preprocess {
 
-/// Largest accepted |t_C_D| [m]: both cameras sit on one board (ZR300: ≈ 25 mm apart); a metre is a
+/// Largest accepted |t_C_D| [m]: both cameras sit on one board, centimetres apart; a metre is a
 /// unit error (millimetres given as metres), not a rig.
 inline constexpr double kMaxRegistrationBaseline_m = 1.0;
 /// Largest accepted depth scale [m per unit]: 1 cm per unit is already coarser than any RGB-D sensor

@@ -125,7 +125,7 @@ Comparison compareWithCpu(RegistrationPipeline& pipeline, const Image<std::uint1
       metric_mismatches += gpu_metric(x, y) != cpu_metric(x, y);
     }
   }
-  EXPECT_EQ(metric_mismatches, 0u) << "depth_to_metric did not read the registered depth";
+  EXPECT_EQ(metric_mismatches, 0u) << "GPU metric depth differs from depth_to_metric of the CPU's registered depth";
   return c;
 }
 

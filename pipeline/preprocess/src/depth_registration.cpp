@@ -13,6 +13,10 @@
 namespace vifusion::preprocess {
 namespace {
 
+/// |‖q‖ − 1| accepted for T_C_D's rotation: SE3d keeps q normalised, so anything larger is a corrupt
+/// value (NaN, or a matrix read as a quaternion), not rounding.
+constexpr double kUnitQuaternionTolerance = 1e-6;
+
 std::string field(const std::string& name) { return "depth registration '" + name + "'"; }
 
 /// Runs PinholeCamera's own checks and reports them under the camera's field name.
@@ -40,7 +44,7 @@ void DepthRegistration::validate() const {
   validateCamera(depth, "depth");
   validateCamera(colour, "colour");
   const Eigen::Quaterniond& q = T_C_D.quaternion();
-  if (!q.coeffs().allFinite() || std::abs(q.norm() - 1.0) > 1e-6) {
+  if (!q.coeffs().allFinite() || std::abs(q.norm() - 1.0) > kUnitQuaternionTolerance) {
     throw Error(field("T_C_D") + ": rotation is not a finite unit quaternion (norm " + std::to_string(q.norm()) + ")");
   }
   const Eigen::Vector3d& t = T_C_D.translation();

@@ -10,6 +10,10 @@ PreprocessCpu::PreprocessCpu(const PreprocessOptions& options) : options_(option
   const PinholeCamera& camera = options_.camera;
   options_.metric.width = options_.bilateral.width = options_.intensity.width = camera.width;
   options_.metric.height = options_.bilateral.height = options_.intensity.height = camera.height;
+  if (options_.registersDepth()) {
+    registration_params_ = options_.registration->kernelParams();
+    registered_raw_.resize(camera.width, camera.height);
+  }
   raw_depth_m_.resize(camera.width, camera.height);
   filtered_vertices_ = Image<VertexPixel>(camera.width, camera.height, VertexPixel::Zero());
   for (int l = 0; l < options_.levels; ++l) {
@@ -23,9 +27,10 @@ PreprocessCpu::PreprocessCpu(const PreprocessOptions& options) : options_(option
 }
 
 void PreprocessCpu::setInput(ImageView<const std::uint16_t> depth_raw, ImageView<const Rgb8> rgb) {
-  if (depth_raw.width != options_.camera.width || depth_raw.height != options_.camera.height ||
+  const PinholeCamera& depth_camera = options_.depthCamera();
+  if (depth_raw.width != depth_camera.width || depth_raw.height != depth_camera.height ||
       rgb.width != options_.camera.width || rgb.height != options_.camera.height) {
-    throw Error("preprocess (CPU): frame size does not match the camera");
+    throw Error("preprocess (CPU): frame size does not match the cameras");
   }
   depth_raw_ = depth_raw;
   rgb_ = rgb;
@@ -33,8 +38,12 @@ void PreprocessCpu::setInput(ImageView<const std::uint16_t> depth_raw, ImageView
 
 void PreprocessCpu::runStep(PreprocessStep step) {
   switch (step) {
+    case PreprocessStep::RegisterDepth:
+      if (options_.registersDepth()) registerDepthCpu(depth_raw_, registration_params_, registered_raw_.view());
+      break;
     case PreprocessStep::MetricAndIntensity:
-      depthToMetricCpu(depth_raw_, options_.metric, raw_depth_m_.view());
+      depthToMetricCpu(options_.registersDepth() ? ImageView<const std::uint16_t>(registered_raw_.view()) : depth_raw_,
+                       options_.metric, raw_depth_m_.view());
       rgbToIntensityCpu(rgb_, options_.intensity, levels_[0].intensity.view());
       break;
     case PreprocessStep::Bilateral:

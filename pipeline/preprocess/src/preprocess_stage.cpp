@@ -12,9 +12,34 @@
 namespace vifusion::preprocess {
 namespace {
 
+/// The scatter pass's empty z-buffer entry (kEmptyZ in register_depth.comp): above every depth.
+constexpr uint32_t kEmptyDepthZ = 0xFFFFFFFFu;
+
 std::string field(const char* name) { return std::string("preprocess option '") + name + "'"; }
 
 uint64_t pixels(const PinholeCamera& camera) { return uint64_t(camera.width) * uint64_t(camera.height); }
+
+bool sameCamera(const PinholeCamera& a, const PinholeCamera& b) {
+  return a.width == b.width && a.height == b.height && a.fx == b.fx && a.fy == b.fy && a.cx == b.cx && a.cy == b.cy;
+}
+
+/// The registration's own checks, then that it describes the same colour camera and depth units as
+/// the rest of the options (the stage keeps one of each).
+void validateRegistration(const PreprocessOptions& options) {
+  const DepthRegistration& registration = *options.registration;
+  registration.validate();
+  if (!sameCamera(registration.colour, options.camera)) {
+    throw Error(field("registration.colour") + " differs from 'camera': depth is registered to the colour camera");
+  }
+  if (static_cast<float>(registration.depth_scale_m) != options.metric.depth_scale_m) {
+    throw Error(field("registration.depth_scale_m") + " (" + std::to_string(registration.depth_scale_m) +
+                ") differs from 'metric.depth_scale_m' (" + std::to_string(options.metric.depth_scale_m) + ")");
+  }
+  if (registration.depth.width % 2 != 0) {
+    throw Error(field("registration.depth") + ": width " + std::to_string(registration.depth.width) +
+                " is odd (depth is packed 2 pixels a word)");
+  }
+}
 
 }  // namespace
 
@@ -46,6 +71,7 @@ void PreprocessOptions::validate() const {
   if (!(normals.min_cross_norm_m2 >= 1e-18f)) throw Error(field("normals.min_cross_norm_m2") + " must be ≥ 1e-18");
   if (!(normal_span_rad > 0.0f && normal_span_rad < 0.1f)) throw Error(field("normal_span_rad") + " must be in (0, 0.1)");
   if (workgroup_size == 0 || workgroup_size > 32) throw Error(field("workgroup_size") + " must be in 1..32");
+  if (registration) validateRegistration(*this);
 }
 
 NormalMapParams PreprocessOptions::normalParams(const PinholeCamera& level_camera) const {
@@ -58,6 +84,7 @@ NormalMapParams PreprocessOptions::normalParams(const PinholeCamera& level_camer
 
 const char* preprocessStepName(PreprocessStep step) {
   switch (step) {
+    case PreprocessStep::RegisterDepth: return "register_depth";
     case PreprocessStep::MetricAndIntensity: return "metric_and_intensity";
     case PreprocessStep::Bilateral: return "bilateral";
     case PreprocessStep::Pyramids: return "pyramids";
@@ -69,8 +96,10 @@ const char* preprocessStepName(PreprocessStep step) {
 
 /// One kernel per shader; kernels used at several levels hold one binding set per level.
 struct PreprocessStage::Kernels {
+  std::unique_ptr<gpu::ComputeKernel> register_scatter, register_resolve;  ///< only when registersDepth()
   std::unique_ptr<gpu::ComputeKernel> metric, intensity, bilateral, pyramid_depth, pyramid_intensity, vertices, normals,
       gradients;
+  gpu::BindingSet register_scatter_set, register_resolve_set;
   gpu::BindingSet metric_set, intensity_set, bilateral_set, filtered_vertex_set;
   std::vector<gpu::BindingSet> pyramid_depth_sets, pyramid_intensity_sets, vertex_sets, normal_sets, gradient_sets;
 };
@@ -82,8 +111,19 @@ PreprocessStage::PreprocessStage(gpu::GpuContext& context, gpu::CapacityPlan& pl
   options_.metric.width = options_.bilateral.width = options_.intensity.width = camera.width;
   options_.metric.height = options_.bilateral.height = options_.intensity.height = camera.height;
 
-  depth_words_ = plan.addBuffer("preprocess.depth_raw", packedDepthWordCount(camera.width, camera.height) * 4,
-                                gpu::MemoryUse::Upload);
+  const PinholeCamera& depth_camera = options_.depthCamera();
+  depth_words_ =
+      plan.addBuffer("preprocess.depth_raw", packedDepthWordCount(depth_camera.width, depth_camera.height) * 4,
+                     gpu::MemoryUse::Upload);
+  registered_words_ = depth_words_;
+  if (options_.registersDepth()) {
+    registration_params_ = options_.registration->kernelParams();
+    registration_zbuffer_ = plan.addBuffer("preprocess.registration_zbuffer", pixels(camera) * sizeof(uint32_t),
+                                           gpu::MemoryUse::DeviceLocal);
+    registered_words_ =
+        plan.addBuffer("preprocess.depth_registered", packedDepthWordCount(camera.width, camera.height) * 4,
+                       gpu::MemoryUse::DeviceLocal);
+  }
   rgb_words_ = plan.addBuffer("preprocess.rgb", packedRgbWordCount(camera.width, camera.height) * 4, gpu::MemoryUse::Upload);
   raw_depth_m_ = plan.addBuffer("preprocess.depth_metric", pixels(camera) * sizeof(float), gpu::MemoryUse::DeviceLocal);
   filtered_vertices_ =
@@ -119,6 +159,15 @@ void PreprocessStage::build(const gpu::MemoryArena& arena) {
     return gpu::ComputeKernel::create(context_, std::move(spec));
   };
   const uint32_t pyramid_sets = levels > 1 ? levels - 1 : 1;
+  auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
+  if (options_.registersDepth()) {
+    k.register_scatter =
+        make("register_depth_scatter", shaders::register_depth_scatter, 2, sizeof(RegisterDepthParams), 1);
+    k.register_resolve =
+        make("register_depth_resolve", shaders::register_depth_resolve, 2, sizeof(RegisterDepthParams), 1);
+    k.register_scatter_set = k.register_scatter->bind({buffer(depth_words_), buffer(registration_zbuffer_)});
+    k.register_resolve_set = k.register_resolve->bind({buffer(registration_zbuffer_), buffer(registered_words_)});
+  }
   k.metric = make("depth_to_metric", shaders::depth_to_metric, 2, sizeof(DepthToMetricParams), 1);
   k.intensity = make("rgb_to_intensity", shaders::rgb_to_intensity, 2, sizeof(RgbToIntensityParams), 1);
   k.bilateral = make("bilateral_depth", shaders::bilateral_depth, 2, sizeof(BilateralDepthParams), 1);
@@ -129,8 +178,7 @@ void PreprocessStage::build(const gpu::MemoryArena& arena) {
   k.normals = make("normal_map", shaders::normal_map, 2, sizeof(NormalMapParams), levels);
   k.gradients = make("intensity_gradient", shaders::intensity_gradient, 2, sizeof(IntensityGradientParams), levels);
 
-  auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
-  k.metric_set = k.metric->bind({buffer(depth_words_), buffer(raw_depth_m_)});
+  k.metric_set = k.metric->bind({buffer(registered_words_), buffer(raw_depth_m_)});
   k.intensity_set = k.intensity->bind({buffer(rgb_words_), buffer(levels_[0].intensity)});
   k.bilateral_set = k.bilateral->bind({buffer(raw_depth_m_), buffer(levels_[0].depth_m)});
   k.filtered_vertex_set = k.vertices->bind({buffer(levels_[0].depth_m), buffer(filtered_vertices_)});
@@ -149,11 +197,13 @@ void PreprocessStage::build(const gpu::MemoryArena& arena) {
 
 void PreprocessStage::upload(ImageView<const std::uint16_t> depth_raw, ImageView<const Rgb8> rgb) const {
   const PinholeCamera& camera = options_.camera;
-  if (depth_raw.width != camera.width || depth_raw.height != camera.height || rgb.width != camera.width ||
+  const PinholeCamera& depth_camera = options_.depthCamera();
+  if (depth_raw.width != depth_camera.width || depth_raw.height != depth_camera.height || rgb.width != camera.width ||
       rgb.height != camera.height) {
     throw Error("preprocess: frame of " + std::to_string(depth_raw.width) + "x" + std::to_string(depth_raw.height) +
-                " depth and " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) + " colour, camera is " +
-                std::to_string(camera.width) + "x" + std::to_string(camera.height));
+                " depth and " + std::to_string(rgb.width) + "x" + std::to_string(rgb.height) + " colour, cameras are " +
+                std::to_string(depth_camera.width) + "x" + std::to_string(depth_camera.height) + " (depth) and " +
+                std::to_string(camera.width) + "x" + std::to_string(camera.height) + " (colour)");
   }
   packDepth(depth_raw, arena_->buffer(depth_words_).hostSpan<std::uint32_t>());
   packRgb(rgb, arena_->buffer(rgb_words_).hostSpan<std::uint32_t>());
@@ -170,6 +220,21 @@ void PreprocessStage::recordStep(gpu::CommandRecorder& recorder, PreprocessStep 
     return kernel.groupsFor(static_cast<uint32_t>(cameras_[level].width), static_cast<uint32_t>(cameras_[level].height));
   };
   switch (step) {
+    case PreprocessStep::RegisterDepth:
+      if (!options_.registersDepth()) return;  // nothing to record, not even a barrier
+      recorder.fillBuffer(arena_->buffer(registration_zbuffer_), kEmptyDepthZ);
+      recorder.computeBarrier();
+      recorder.dispatch(*k.register_scatter, k.register_scatter_set,
+                        k.register_scatter->groupsFor(static_cast<uint32_t>(registration_params_.depth_width),
+                                                      static_cast<uint32_t>(registration_params_.depth_height)),
+                        registration_params_);
+      recorder.computeBarrier();
+      // One invocation per packed word: two colour pixels of a row.
+      recorder.dispatch(*k.register_resolve, k.register_resolve_set,
+                        k.register_resolve->groupsFor(static_cast<uint32_t>(cameras_[0].width / 2),
+                                                      static_cast<uint32_t>(cameras_[0].height)),
+                        registration_params_);
+      break;
     case PreprocessStep::MetricAndIntensity:
       recorder.dispatch(*k.metric, k.metric_set, groups(*k.metric, 0), options_.metric);
       recorder.dispatch(*k.intensity, k.intensity_set, groups(*k.intensity, 0), options_.intensity);

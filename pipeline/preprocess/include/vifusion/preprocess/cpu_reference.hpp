@@ -13,7 +13,8 @@
 //    GPU compilers may do so freely, GCC in ISO C++ mode does not, clang does on FMA targets (aarch64);
 //  - GPUs may flush denormals to zero (only negligible bilateral weights get that small).
 // depth_to_metric and intensity_gradient are exact on any conforming device (one rounding per
-// operation, and the only fusable a + 2·b is exact). On lavapipe (Mesa 22.3) every kernel except
+// operation, and the only fusable a + 2·b is exact); so is register_depth (its sums are `precise` and
+// its division only proposes a pixel, see registerDepthCpu). On lavapipe (Mesa 22.3) every kernel except
 // bilateral_depth matched bit for bit; bilateral_depth differed by ≤ 6e-7 relative (exp).
 // Compare normals with an absolute tolerance: components near 0 have no meaningful relative error.
 
@@ -52,6 +53,14 @@ void vertexMapCpu(ImageView<const float> depth_m, const VertexMapParams& params,
 /// normal_map.comp. vertices: invalid where z ≤ 0; normals: unit, n·v < 0, Zero() = invalid.
 void normalMapCpu(ImageView<const VertexPixel> vertices, const NormalMapParams& params,
                   ImageView<NormalPixel> normals);
+
+/// register_depth.comp (scatter and resolve passes): raw: depth_width × depth_height [units],
+/// 0 = invalid; registered: colour_width × colour_height [the same units], 0 = nothing landed; must not
+/// alias. Exact on any conforming device: only correctly rounded + and · feed a decision (FMA
+/// contraction is off on both sides), and the one division only proposes a pixel that exact
+/// comparisons then confirm (see the shader).
+void registerDepthCpu(ImageView<const std::uint16_t> raw, const RegisterDepthParams& params,
+                      ImageView<std::uint16_t> registered);
 
 /// intensity_gradient.comp. gradient: (∂I/∂u, ∂I/∂v) [intensity / px].
 void intensityGradientCpu(ImageView<const float> intensity, const IntensityGradientParams& params,

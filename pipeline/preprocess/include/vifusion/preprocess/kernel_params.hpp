@@ -124,6 +124,26 @@ struct IntensityGradientParams {
   std::int32_t height = 0;        ///< image height [px]
 };
 
+/// register_depth.comp (both passes): raw depth of the depth camera D → raw depth in the pixels of the
+/// colour camera C, same units. The whole warp of depth pixel (u, v) with raw depth d [units] is one
+/// homogeneous map h = d·(H·(u, v, 1)ᵀ) + e with H = K_C·R_C_D·K_D⁻¹ [1] and e = K_C·t_C_D / depth_scale
+/// [units·px]: the colour pixel is (h_x/h_z, h_y/h_z) and h_z is the depth along C's optical axis
+/// [units]. Working in raw units rather than metres leaves no division in the depth (it is h_z itself)
+/// and one rounding to the output's integer units. Built by DepthRegistration::kernelParams() in double
+/// and rounded to float once, so the shader and registerDepthCpu read the same floats.
+struct RegisterDepthParams {
+  std::int32_t depth_width = 0;              ///< input (depth camera) width [px]
+  std::int32_t depth_height = 0;             ///< input height [px]
+  std::int32_t colour_width = 0;             ///< output (colour camera) width [px], even (packed 2 pixels a word)
+  std::int32_t colour_height = 0;            ///< output height [px]
+  float h00 = 1.0f, h01 = 0.0f, h02 = 0.0f;  ///< H row 0 [1, 1, px]
+  float h10 = 0.0f, h11 = 1.0f, h12 = 0.0f;  ///< H row 1 [1, 1, px]
+  float h20 = 0.0f, h21 = 0.0f, h22 = 1.0f;  ///< H row 2 [1/px, 1/px, 1]
+  float e_x = 0.0f;                          ///< K_C·t_C_D / depth_scale, x [units·px]
+  float e_y = 0.0f;                          ///< y [units·px]
+  float e_z = 0.0f;                          ///< z: the baseline along C's optical axis [units]
+};
+
 // Layout pins: offsets follow the GLSL member order, 4 bytes per member.
 template <typename T>
 inline constexpr bool kIsPushConstantBlock = std::is_standard_layout_v<T> && std::is_trivially_copyable_v<T> &&
@@ -172,5 +192,13 @@ static_assert(offsetof(NormalMapParams, span_px) == 12);
 
 static_assert(kIsPushConstantBlock<IntensityGradientParams>);
 static_assert(sizeof(IntensityGradientParams) == 8);
+
+static_assert(kIsPushConstantBlock<RegisterDepthParams>);
+static_assert(sizeof(RegisterDepthParams) == 64);
+static_assert(offsetof(RegisterDepthParams, colour_width) == 8);
+static_assert(offsetof(RegisterDepthParams, h00) == 16);
+static_assert(offsetof(RegisterDepthParams, h22) == 48);
+static_assert(offsetof(RegisterDepthParams, e_x) == 52);
+static_assert(offsetof(RegisterDepthParams, e_z) == 60);
 
 }  // namespace vifusion::preprocess

@@ -26,6 +26,8 @@ class PreprocessCpu {
   void runStep(PreprocessStep step);
   void run();
 
+  /// Raw depth registered to the colour camera; empty unless options.registersDepth().
+  const Image<std::uint16_t>& registeredDepth() const { return registered_raw_; }
   const Image<float>& rawDepth() const { return raw_depth_m_; }
   const Image<VertexPixel>& filteredVertices() const { return filtered_vertices_; }
   const Level& level(int l) const { return levels_[l]; }
@@ -35,6 +37,8 @@ class PreprocessCpu {
   std::vector<PinholeCamera> cameras_;
   ImageView<const std::uint16_t> depth_raw_;
   ImageView<const Rgb8> rgb_;
+  RegisterDepthParams registration_params_;
+  Image<std::uint16_t> registered_raw_;
   Image<float> raw_depth_m_;
   Image<VertexPixel> filtered_vertices_;  ///< level 0, input of the level-0 normals
   std::vector<Level> levels_;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -16,13 +17,19 @@
 #include "vifusion/gpu/compute_kernel.hpp"
 #include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/gpu/memory_arena.hpp"
+#include "vifusion/preprocess/depth_registration.hpp"
 #include "vifusion/preprocess/kernel_params.hpp"
 #include "vifusion/preprocess/pixel_types.hpp"
 
 namespace vifusion::preprocess {
 
 struct PreprocessOptions {
-  PinholeCamera camera;  ///< level-0 intrinsics and image size (depth and colour registered)
+  PinholeCamera camera;  ///< level-0 intrinsics and image size: the colour camera's (depth registered to it)
+  /// Set when depth comes from another camera than colour (ZR300): frames then carry depth at
+  /// registration->depth's size, and the first step warps it into `camera`'s pixels. Its colour
+  /// camera must equal `camera` and its depth scale metric.depth_scale_m. Unset, or an identity
+  /// registration (isIdentity()), skips the step: depth is already registered (datasets, simulator).
+  std::optional<DepthRegistration> registration;
   int levels = 3;        ///< pyramid levels, each half the size of the previous
   DepthToMetricParams metric;         ///< width/height are taken from `camera`
   BilateralDepthParams bilateral;     ///< width/height are taken from `camera`
@@ -41,13 +48,19 @@ struct PreprocessOptions {
 
   /// normal_map parameters for the pyramid level whose camera is `level_camera`.
   NormalMapParams normalParams(const PinholeCamera& level_camera) const;
+
+  /// True when a registration is set and is not the identity: the RegisterDepth step runs.
+  bool registersDepth() const { return registration.has_value() && !registration->isIdentity(); }
+  /// The camera whose pixels the uploaded raw depth is in: registration->depth, or `camera`.
+  const PinholeCamera& depthCamera() const { return registration ? registration->depth : camera; }
 };
 
-/// The steps in recording order; benchmarks record them one at a time.
-enum class PreprocessStep { MetricAndIntensity, Bilateral, Pyramids, VerticesAndGradients, Normals };
-inline constexpr PreprocessStep kAllPreprocessSteps[] = {PreprocessStep::MetricAndIntensity, PreprocessStep::Bilateral,
-                                                        PreprocessStep::Pyramids, PreprocessStep::VerticesAndGradients,
-                                                        PreprocessStep::Normals};
+/// The steps in recording order; benchmarks record them one at a time. RegisterDepth records nothing
+/// unless PreprocessOptions::registersDepth().
+enum class PreprocessStep { RegisterDepth, MetricAndIntensity, Bilateral, Pyramids, VerticesAndGradients, Normals };
+inline constexpr PreprocessStep kAllPreprocessSteps[] = {
+    PreprocessStep::RegisterDepth, PreprocessStep::MetricAndIntensity,   PreprocessStep::Bilateral,
+    PreprocessStep::Pyramids,      PreprocessStep::VerticesAndGradients, PreprocessStep::Normals};
 const char* preprocessStepName(PreprocessStep step);
 
 /// Buffer ids of one pyramid level (device-local; valid in the arena built from the plan).
@@ -75,7 +88,8 @@ class PreprocessStage {
   /// Creates the kernels and writes their bindings once the arena exists.
   void build(const gpu::MemoryArena& arena);
 
-  /// Packs one frame into the mapped upload buffers (no allocation). Sizes must match the camera.
+  /// Packs one frame into the mapped upload buffers (no allocation). Sizes must match the cameras:
+  /// depth options().depthCamera(), colour options().camera.
   void upload(ImageView<const std::uint16_t> depth_raw, ImageView<const Rgb8> rgb) const;
 
   /// Records every step, ending with a barrier that makes the outputs visible to later kernels,
@@ -93,6 +107,9 @@ class PreprocessStage {
   gpu::BufferId filteredVertices() const { return filtered_vertices_; }
   /// The packed RGB888 upload buffer (surfel colours are read from it).
   gpu::BufferId rgbWords() const { return rgb_words_; }
+  /// Raw depth in the colour camera's pixels, packed two uint16 a word, that depth_to_metric reads:
+  /// the registration's output, or the upload buffer itself when registration is skipped.
+  gpu::BufferId registeredDepthWords() const { return registered_words_; }
   const LevelBuffers& level(int level) const { return levels_[level]; }
 
  private:
@@ -102,6 +119,9 @@ class PreprocessStage {
   PreprocessOptions options_;
   std::vector<PinholeCamera> cameras_;
   gpu::BufferId depth_words_;
+  gpu::BufferId registration_zbuffer_;  ///< uint per colour pixel; only when registersDepth()
+  gpu::BufferId registered_words_;      ///< depth_words_ unless registersDepth()
+  RegisterDepthParams registration_params_;
   gpu::BufferId rgb_words_;
   gpu::BufferId raw_depth_m_;
   gpu::BufferId filtered_vertices_;

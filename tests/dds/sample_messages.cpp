@@ -97,6 +97,10 @@ SampleMessages::SampleMessages() {
   status.closures_refused = 41;
   status.closures_agreed = 5;
   status.relocalisations = 2;
+  status.source_present = true;
+  status.source_reopens = 1;
+  status.clock_offset_ns = -1'234'567'890'123;
+  status.clock_skew_ppm = 12.5f;
 }
 
 }  // namespace vifusion::dds::test

@@ -7,6 +7,7 @@
 
 #include "vifusion/clock/tick_clock.hpp"
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/thread_cpu_time.hpp"
 #include "vifusion/discovery/discovery_error.hpp"
 #include "vifusion/motion/adapter_command.hpp"
 #include "vifusion/motion/imu_scaling.hpp"
@@ -245,6 +246,7 @@ ScriptedCamera::ScriptedCamera(CameraScript script)
   depth.schedule = {script_.frame_t_ns.front() + kArrivalDelayNs, period_ns, frame_count,
                     [this, inner_width, inner_height, stampOf](const v4l2_scripted::ScriptedFrameRequest& request,
                                                                v4l2_scripted::ScriptedFrame& frame) {
+                      const std::int64_t cpu_start_ns = currentThreadCpuTimeNs();
                       const std::uint32_t line = request.format.bytesperline;
                       auto* pixels = reinterpret_cast<std::uint16_t*>(request.payload.data());
                       script_.depth(static_cast<int>(request.frame_index),
@@ -254,6 +256,7 @@ ScriptedCamera::ScriptedCamera(CameraScript script)
                       dinghy.frame_counter = kFirstFrameCounter + static_cast<std::uint32_t>(request.frame_index);
                       v4l2::writeDinghy(dinghy, request.payload, line, inner_height + 1);
                       frame.t_stamp_ns = stampOf(request.frame_index);
+                      producer_cpu_ns_.fetch_add(currentThreadCpuTimeNs() - cpu_start_ns);
                     }};
   device_->addNode(depth);
 
@@ -264,12 +267,14 @@ ScriptedCamera::ScriptedCamera(CameraScript script)
   colour.schedule = {script_.frame_t_ns.front() + kArrivalDelayNs, period_ns, frame_count,
                      [this, scratch, width, height, stampOf](const v4l2_scripted::ScriptedFrameRequest& request,
                                                              v4l2_scripted::ScriptedFrame& frame) {
+                       const std::int64_t cpu_start_ns = currentThreadCpuTimeNs();
                        script_.colour(static_cast<int>(request.frame_index), scratch->view());
                        rgbToYuyv(scratch->view(), request.payload, request.format.bytesperline);
                        v4l2::writeColourFrameNumber(
                            kFirstFrameCounter + static_cast<std::uint32_t>(request.frame_index), request.payload,
                            request.format.bytesperline, width, height);
                        frame.t_stamp_ns = stampOf(request.frame_index);
+                       producer_cpu_ns_.fetch_add(currentThreadCpuTimeNs() - cpu_start_ns);
                      }};
   device_->addNode(colour);
   if (script_.unplug_at_ns) device_->scheduleUnplug(*script_.unplug_at_ns);

@@ -93,6 +93,9 @@ class ScriptedCamera final : public zr300::Zr300Backend {
   const CameraScript& script() const { return script_; }
   /// Transfers the motion module received, over every link.
   std::size_t transfersDelivered() const { return delivered_.load(); }
+  /// CPU time spent making frames (the camera's side: filling and encoding buffers) [ns], which runs on the
+  /// thread that polls the V4L2 nodes; a benchmark subtracts it from the driver's thread time.
+  std::int64_t producerCpuNs() const { return producer_cpu_ns_.load(); }
   /// Adapter commands the driver sent, over every link (opcode values).
   std::vector<std::uint32_t> commandsSeen() const;
 
@@ -113,6 +116,7 @@ class ScriptedCamera final : public zr300::Zr300Backend {
   std::vector<std::int64_t> transfer_host_ns_;
   std::atomic<ScriptedMotionLink*> link_{nullptr};
   std::atomic<std::size_t> delivered_{0};
+  std::atomic<std::int64_t> producer_cpu_ns_{0};
   mutable std::mutex commands_mutex_;
   std::vector<std::uint32_t> commands_;
 };

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/thread_cpu_time.hpp"
 
 namespace vifusion::usb_imu {
 namespace {
@@ -90,6 +91,10 @@ void MotionModule::stop() {
   link_->close();
   ModuleState expected = ModuleState::kStreaming;
   state_.compare_exchange_strong(expected, ModuleState::kClosed, std::memory_order_acq_rel);
+}
+
+std::int64_t MotionModule::threadCpuNs() const {
+  return running_.load(std::memory_order_acquire) ? threadCpuTimeNs(const_cast<std::thread&>(thread_)) : 0;
 }
 
 void MotionModule::replaceLink(std::unique_ptr<UsbLink> link) {

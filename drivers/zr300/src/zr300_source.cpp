@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/thread_cpu_time.hpp"
 #include "vifusion/core/time.hpp"
 #include "vifusion/v4l2/device_error.hpp"
 #include "vifusion/v4l2/ds_metadata.hpp"
@@ -329,6 +330,11 @@ bool Zr300Source::nextFrame(RgbdFrame& frame) {
     sleepNs(kWaitStepNs);
   }
   return false;
+}
+
+std::int64_t Zr300Source::driverCpuNs() const {
+  const std::int64_t camera = thread_.joinable() ? threadCpuTimeNs(const_cast<std::thread&>(thread_)) : 0;
+  return camera + (motion_ ? motion_->threadCpuNs() : 0);
 }
 
 Zr300Stats Zr300Source::stats() const {

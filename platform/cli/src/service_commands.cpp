@@ -103,6 +103,16 @@ int runStatus(const StatusCommandOptions& options) {
                 static_cast<unsigned long long>(s.relocalisations), s.camera_ring.fill, s.camera_ring.capacity,
                 static_cast<unsigned long long>(s.camera_ring.overruns), static_cast<unsigned long long>(s.heartbeat));
             status_text = line;
+            if (!s.source_present) status_text += "vifusiond: camera absent (unplugged): the map is kept\n";
+            if (s.clock_offset_ns != 0 || s.source_reopens > 0) {
+              std::snprintf(line, sizeof(line),
+                            "vifusiond: live camera: IMU clock offset %.6f s, skew %.2f ppm, IMU ring %u/%u (%llu "
+                            "overruns), re-opened %llu times\n",
+                            static_cast<double>(s.clock_offset_ns) * 1e-9, static_cast<double>(s.clock_skew_ppm),
+                            s.imu_ring.fill, s.imu_ring.capacity, static_cast<unsigned long long>(s.imu_ring.overruns),
+                            static_cast<unsigned long long>(s.source_reopens));
+              status_text += line;
+            }
             have_status = true;
           },
           1);

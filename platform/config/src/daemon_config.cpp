@@ -14,8 +14,9 @@ bool positiveFinite(double value) { return std::isfinite(value) && value > 0.0; 
 }  // namespace
 
 void DaemonConfig::validate() const {
-  require(!source.empty(),
-          "key 'source' is empty: give sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR or klg:FILE");
+  require(
+      !source.empty(),
+      "key 'source' is empty: give sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE or zr300[:SERIAL]");
   require(!out.empty(), "key 'out' is empty: give the state directory for trajectory.txt and map.ply");
   require(mode == "rgbd" || mode == "rgbdi" || mode == "gyro",
           "key 'mode' = '" + mode + "' is unknown: rgbd, rgbdi or gyro");

@@ -21,6 +21,9 @@ void sleepUntil(std::int64_t until_ns, const std::atomic<bool>& stop) {
 }  // namespace
 
 void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state) {
+  // A camera comes at its own pace: no pacing by timestamps, and a full ring drops the newest frame.
+  if (source.live()) realtime = true;
+  const bool paced = realtime && !source.live();
   FrameSlot slot = FrameSlot();
   std::int64_t first_t_ns = 0, start_ns = 0;
   bool first = true;
@@ -30,7 +33,7 @@ void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState&
         first_t_ns = slot.frame.t_ns;
         start_ns = monotonicNowNs();
         first = false;
-      } else if (realtime) {
+      } else if (paced) {
         sleepUntil(start_ns + (slot.frame.t_ns - first_t_ns), state.stop);
       }
       if (!realtime) {

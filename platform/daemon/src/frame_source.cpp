@@ -9,6 +9,10 @@
 
 #include "vifusion/core/error.hpp"
 #include "vifusion/service/log.hpp"
+#ifdef VIFUSION_WITH_ZR300
+#include "vifusion/discovery/source_spec.hpp"
+#include "vifusion/zr300/open_zr300.hpp"
+#endif
 
 extern char** environ;
 
@@ -40,12 +44,46 @@ void generateSim(const std::string& preset, const std::filesystem::path& dir) {
 
 }  // namespace
 
-std::unique_ptr<datasets::DatasetReader> openSource(const std::string& source, const std::string& out_dir) {
-  if (!source.starts_with("sim:")) return datasets::openDataset(source);
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
+  OpenedSource opened;
+  const std::string& source = config.source;
+#ifdef VIFUSION_WITH_ZR300
+  if (const std::optional<discovery::Zr300SourceSpec> spec = discovery::parseZr300SourceSpec(source)) {
+    zr300::Zr300Options options;
+    options.imu = inertial;  // rgbd mode leaves the motion module alone: frames take their kernel times
+    std::unique_ptr<zr300::Zr300Source> camera = zr300::openZr300(*spec, config.calibration, options);
+    zr300::Zr300Source* live = camera.get();
+    opened.live_imu = live->imuFeed();
+    opened.request_stop = [live] { live->requestStop(); };
+    opened.report = [live](SharedState& state) {
+      const zr300::Zr300Stats stats = live->stats();
+      state.source_present = stats.camera_present;
+      state.source_reopens = stats.reopens;
+      state.clock_offset_ns = stats.motion.clock_offset_ns;
+      state.clock_skew_ppm = stats.motion.clock_skew_ppm;
+      state.imu_ring_fill = live->imuRingFill();
+      state.imu_ring_capacity = live->imuRingCapacity();
+      state.imu_ring_overruns = stats.motion.imu_overruns;
+    };
+    opened.problem = [live] { return live->lastProblem(); };
+    opened.reader = std::move(camera);
+    return opened;
+  }
+#else
+  (void)inertial;
+  if (source.starts_with("zr300")) {
+    throw Error("this vifusiond was built without the live drivers (VIFUSION_WITH_LIVE_DRIVERS=OFF)");
+  }
+#endif
+  if (!source.starts_with("sim:")) {
+    opened.reader = datasets::openDataset(source);
+    return opened;
+  }
   const std::string preset = source.substr(4);
-  const std::filesystem::path dir = std::filesystem::path(out_dir) / ("sim_" + preset);
+  const std::filesystem::path dir = std::filesystem::path(config.out) / ("sim_" + preset);
   if (!std::filesystem::exists(dir / "rgb.txt")) generateSim(preset, dir);
-  return datasets::openDataset("dataset:" + dir.string());
+  opened.reader = datasets::openDataset("dataset:" + dir.string());
+  return opened;
 }
 
 }  // namespace vifusion::daemon

@@ -9,10 +9,10 @@
 #include <thread>
 
 #include "vifusion/config/command_line.hpp"
+#include "vifusion/core/imu_feed.hpp"
 #include "vifusion/core/time.hpp"
 #include "vifusion/daemon/frame_reader.hpp"
 #include "vifusion/daemon/frame_source.hpp"
-#include "vifusion/core/imu_feed.hpp"
 #include "vifusion/daemon/publisher.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
 #include "vifusion/service/log.hpp"
@@ -39,31 +39,33 @@ int serve(const config::DaemonConfig& config) {
   notifier.extendTimeout(kStartupStepUsec);
   notifier.status("opening the source");
 
-  std::unique_ptr<datasets::DatasetReader> source;
-  try {
-    source = openSource(config.source, config.out);
-  } catch (const std::exception& error) {
-    logLine(LogLevel::Error, "cannot open source '%s': %s", config.source.c_str(), error.what());
-    return config::kExitSource;
-  }
-  logLine(LogLevel::Info, "source: %s", source->describe().c_str());
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(config.mode);  // validate() admitted only the valid names
   slam_options.map.capacity = static_cast<std::uint32_t>(config.map_capacity);  // validate() bounded it
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
+  OpenedSource opened;
+  try {
+    opened = openSource(config, inertial);
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "cannot open source '%s': %s", config.source.c_str(), error.what());
+    return config::kExitSource;
+  }
+  const std::unique_ptr<datasets::DatasetReader>& source = opened.reader;
+  logLine(LogLevel::Info, "source: %s", source->describe().c_str());
   // The inertial modes need the source's IMU stream; without it, say so now rather than run RGB-D only.
-  if (inertial && source->imu().empty()) {
+  if (inertial && (source->live() ? opened.live_imu == nullptr : source->imu().empty())) {
     logLine(LogLevel::Error,
             "source '%s' has no IMU data, and mode '%s' needs it: use mode rgbd, or a source with IMU samples "
             "(dataset:DIR with imu.csv, sim:NAME)",
             config.source.c_str(), config.mode.c_str());
     return config::kExitSource;
   }
-  if (inertial) {
+  if (inertial && !source->live()) {
     logLine(LogLevel::Info, "mode %s: %zu IMU samples", config.mode.c_str(), source->imu().size());
   }
   // Borrows the reader's stream: `source` outlives the SLAM thread, joined below.
-  RecordedImuFeed imu_feed(source->imu());
+  RecordedImuFeed recorded_imu(source->imu());
+  ImuFeed* imu_feed = opened.live_imu != nullptr ? opened.live_imu : &recorded_imu;
 
   notifier.extendTimeout(kStartupStepUsec);
   notifier.status("building the GPU pipeline");
@@ -106,7 +108,7 @@ int serve(const config::DaemonConfig& config) {
   worker_options.max_frames = static_cast<std::uint64_t>(config.max_frames);
   worker_options.map_period_ns = secondsToNs(config.map_publish_period_s);
   worker_options.expected_frames = source->frameCount();
-  worker_options.imu = inertial ? &imu_feed : nullptr;
+  worker_options.imu = inertial ? imu_feed : nullptr;
   SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
 
   notifier.status("waiting for the first frame");
@@ -120,6 +122,8 @@ int serve(const config::DaemonConfig& config) {
   std::int64_t next_status_ns = 0;
   std::int64_t next_extend_ns = monotonicNowNs();
   bool stopping = false;
+  bool camera_present = true;
+  std::int64_t camera_absent_since_ns = 0;
   while (!state.slam_done) {
     const int signal = signals.wait(100);
     if (signal == SIGTERM || signal == SIGINT) {
@@ -133,8 +137,24 @@ int serve(const config::DaemonConfig& config) {
     if (state.stop && !stopping) {
       stopping = true;
       notifier.stopping();
+      if (opened.request_stop) opened.request_stop();  // a live source may be waiting for its camera
     }
     const std::int64_t now_ns = monotonicNowNs();
+    if (opened.report) {
+      opened.report(state);
+      if (state.source_present.load() != camera_present) {
+        camera_present = state.source_present.load();
+        camera_absent_since_ns = now_ns;
+        if (camera_present) {
+          logLine(LogLevel::Info, "camera back: re-opened (%llu times so far), tracking resumes",
+                  static_cast<unsigned long long>(state.source_reopens.load()));
+        } else {
+          logLine(LogLevel::Error, "camera gone: %s; the map is kept, waiting for it to come back",
+                  opened.problem().c_str());
+        }
+        next_status_ns = 0;
+      }
+    }
     const std::uint64_t frames = state.frames_processed.load();
     if (!ready && frames > 0) {
       ready = true;
@@ -145,11 +165,19 @@ int serve(const config::DaemonConfig& config) {
       notifier.extendTimeout(kStartupStepUsec);
       next_extend_ns = now_ns + 10 * kNsPerSecond;
     }
-    // Pet only on progress: a stalled source or a hung GPU lets the watchdog fire.
+    // Pet only on progress, or while the live camera is known to be unplugged (then no frame can come, and
+    // the service is doing what it should: waiting for it); a stalled source or a hung GPU lets it fire.
     if (notifier.watchdogPeriodNs() > 0 && now_ns >= next_pet_ns) {
-      if (frames != petted_frames) notifier.watchdog();
+      if (frames != petted_frames || !camera_present) notifier.watchdog();
       petted_frames = frames;
       next_pet_ns = now_ns + notifier.watchdogPeriodNs();
+    }
+    if (now_ns >= next_status_ns && !camera_present) {
+      char text[200];
+      std::snprintf(text, sizeof(text), "camera absent for %.0f s (unplugged): map kept, %llu frames so far",
+                    nsToSeconds(now_ns - camera_absent_since_ns), static_cast<unsigned long long>(frames));
+      notifier.status(text);
+      next_status_ns = now_ns + kNsPerSecond;
     }
     if (now_ns >= next_status_ns) {
       char text[200];
@@ -169,6 +197,7 @@ int serve(const config::DaemonConfig& config) {
   }
   // The SLAM thread ended (stop, end of source, max_frames or failure): let the others finish.
   state.stop = true;
+  if (opened.request_stop) opened.request_stop();
   reader_thread.join();
   slam_thread.join();
   publisher_thread.join();

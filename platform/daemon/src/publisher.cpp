@@ -120,7 +120,9 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.frame_rate_hz = rate_hz;
   status.latency_ms = latency_ms_;
   status.camera_ring = counters(state_.frames.size(), state_.frames.capacity(), state_.frames.overruns());
-  status.imu_ring = counters(0, 0, 0);  // no IMU ring: recorded sources hand over their whole stream (imu_feed.hpp)
+  // The live camera's motion-module ring; recorded sources have none (they hand over their whole stream).
+  status.imu_ring =
+      counters(state_.imu_ring_fill.load(), state_.imu_ring_capacity.load(), state_.imu_ring_overruns.load());
   status.output_ring = counters(state_.results.size(), state_.results.capacity(), state_.results.overruns());
   auto tracking = dds::msg::TrackingState::Initialising;
   if (have_last_) {
@@ -146,6 +148,10 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.closures_refused = state_.closures_refused.load();
   status.closures_agreed = state_.closures_agreed.load();
   status.relocalisations = state_.relocalisations.load();
+  status.source_present = state_.source_present.load();
+  status.source_reopens = state_.source_reopens.load();
+  status.clock_offset_ns = state_.clock_offset_ns.load();
+  status.clock_skew_ppm = static_cast<float>(state_.clock_skew_ppm.load());
   status_.write(status);
 }
 

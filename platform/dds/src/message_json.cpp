@@ -20,6 +20,10 @@ void field(JsonLine& json, std::string_view key, std::int32_t value) {
   json.key(key);
   json.value(static_cast<std::int64_t>(value));
 }
+void field(JsonLine& json, std::string_view key, std::int64_t value) {
+  json.key(key);
+  json.value(value);
+}
 void field(JsonLine& json, std::string_view key, std::uint8_t value) {
   json.key(key);
   json.value(static_cast<std::uint64_t>(value));
@@ -254,6 +258,10 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "closures_refused", message.closures_refused);
   field(json, "closures_agreed", message.closures_agreed);
   field(json, "relocalisations", message.relocalisations);
+  field(json, "source_present", message.source_present);
+  field(json, "source_reopens", message.source_reopens);
+  field(json, "clock_offset_ns", message.clock_offset_ns);
+  field(json, "clock_skew_ppm", message.clock_skew_ppm);
   json.endObject();
 }
 

@@ -84,7 +84,9 @@ void HealthRules::judge(std::int64_t now_ns, std::array<RuleResult, kRuleCount>&
   value(rate, "frame_rate_hz", "%.1f", rate_hz);
   value(rate, "latency_ms", "%.1f", last_.latency_ms);
   value(rate, "frames_processed", "%.0f", static_cast<double>(last_.frames_processed));
-  if (last_.tracking_state == static_cast<std::uint8_t>(dds::msg::TrackingState::Initialising)) {
+  if (!last_.source_present) {
+    set(rate, Level::Error, "camera absent (unplugged): waiting for it to come back; the map is kept");
+  } else if (last_.tracking_state == static_cast<std::uint8_t>(dds::msg::TrackingState::Initialising)) {
     set(rate, Level::Ok, "initialising: waiting for the first frame");
   } else if (rate_hz <= 0.0) {
     set(rate, Level::Error, "no frames processed in the last second (source or pipeline stalled)");

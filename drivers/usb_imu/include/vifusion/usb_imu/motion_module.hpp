@@ -59,6 +59,8 @@ class MotionModule final : private InterruptSink {
   void replaceLink(std::unique_ptr<UsbLink> link);
 
   ModuleState state() const { return state_.load(std::memory_order_acquire); }
+  /// CPU time the driver thread has used so far [ns]; 0 when it is not running. For benchmarks and status.
+  std::int64_t threadCpuNs() const;
   /// Snapshot of every counter, readable from any thread.
   MotionModuleStats stats() const;
   /// What ended the stream in kFailed, or why start() threw; empty otherwise.

@@ -72,6 +72,11 @@ class Zr300Source final : public datasets::DatasetReader {
   ImuFeed* imuFeed() { return imu_feed_ ? &*imu_feed_ : nullptr; }
   const LiveImuFeed* liveImuFeed() const { return imu_feed_ ? &*imu_feed_ : nullptr; }
   Zr300Stats stats() const;
+  /// Samples waiting in the motion module's IMU ring, and its capacity (0, 0 without the IMU); any thread.
+  std::size_t imuRingFill() const { return motion_ ? motion_->imuRing().size() : 0; }
+  std::size_t imuRingCapacity() const { return motion_ ? motion_->imuRing().capacity() : 0; }
+  /// CPU time the driver threads (camera assembly and motion module) have used so far [ns].
+  std::int64_t driverCpuNs() const;
   /// Why the camera is absent or the last frame was refused; empty when nothing went wrong.
   std::string lastProblem() const;
   /// Asks the camera thread to end; nextFrame() returns false from then on. Only stores a flag, so a signal

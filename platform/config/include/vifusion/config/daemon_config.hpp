@@ -45,13 +45,15 @@ struct HealthConfig {
 };
 
 struct DaemonConfig {
-  std::string source = "sim:living_room_0";  ///< sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE
-  std::string out = "/var/lib/vifusion";     ///< state directory: trajectory.txt, map.ply, generated sim data
-  std::string mode = "rgbd";                 ///< rgbd, rgbdi (camera + IMU) or gyro (camera + gyroscope)
-  std::int64_t max_frames = 0;               ///< stop cleanly after this many processed frames; 0: the whole source
-  bool realtime = true;                      ///< replay a dataset at its timestamps (false: as fast as possible)
-  std::string device;                        ///< GPU name filter ("" = best device)
-  std::int64_t frame_ring = 4;               ///< camera ring capacity [frames], preallocated
+  std::string source =
+      "sim:living_room_0";  ///< sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, zr300[:SERIAL]
+  std::string calibration;  ///< zr300 source: the rig's calibration.yaml (drivers/zr300 open_zr300.hpp)
+  std::string out = "/var/lib/vifusion";  ///< state directory: trajectory.txt, map.ply, generated sim data
+  std::string mode = "rgbd";              ///< rgbd, rgbdi (camera + IMU) or gyro (camera + gyroscope)
+  std::int64_t max_frames = 0;            ///< stop cleanly after this many processed frames; 0: the whole source
+  bool realtime = true;                   ///< replay a dataset at its timestamps (false: as fast as possible)
+  std::string device;                     ///< GPU name filter ("" = best device)
+  std::int64_t frame_ring = 4;            ///< camera ring capacity [frames], preallocated
   /// Surfels the map holds: its GPU memory, fixed at start (≈ 110 bytes a surfel). When it fills,
   /// the oldest inactive surfels make room (map_maintenance.hpp).
   std::int64_t map_capacity = 2'000'000;

@@ -92,6 +92,14 @@ struct SharedState {
   std::atomic<std::uint64_t> closures_refused{0};    ///< loop-closure attempts a test refused
   std::atomic<std::uint64_t> closures_agreed{0};     ///< closures within their noise: reactivation only
   std::atomic<std::uint64_t> relocalisations{0};     ///< lost frames tracked again from a recognised place
+  // The live camera, as the main thread last read it from the source (recorded sources: present, zeros).
+  std::atomic<bool> source_present{true};        ///< false while the camera is unplugged
+  std::atomic<std::uint64_t> source_reopens{0};  ///< re-opens after an unplug
+  std::atomic<std::int64_t> clock_offset_ns{0};  ///< host − device clock of the IMU [ns]
+  std::atomic<double> clock_skew_ppm{0.0};       ///< host rate / device rate − 1 [ppm]
+  std::atomic<std::uint64_t> imu_ring_fill{0};   ///< samples waiting in the motion module's ring
+  std::atomic<std::uint64_t> imu_ring_capacity{0};
+  std::atomic<std::uint64_t> imu_ring_overruns{0};
   std::atomic<int> exit_code{0};
 
   void fail(int code) {

@@ -11,7 +11,8 @@
 //    use it.)
 //  - gpiod_line_event_wait polls the line's event fd with the timeout; gpiod_line_event_read_multiple
 //    reads up to kMaxEventsPerRead events into a fixed member array, then they are converted in place:
-//    no allocation per batch.
+//    no allocation per batch. libgpiod 1.6 reports every uAPI event id other than rising as falling, so
+//    EdgeType::kUnknown cannot come from this line (a malformed id shows up as an unrequested falling edge).
 
 #include <memory>
 

@@ -29,14 +29,20 @@ class ScriptedLineIo final : public GpioLineIo {
   /// to thread wake-up delay; only its sign matters to the driver (reads come after edges).
   static constexpr std::int64_t kReadLatencyNs = 50 * kNsPerMicrosecond;
 
-  explicit ScriptedLineIo(std::size_t max_edges = 4096, std::int64_t start_ns = kNsPerSecond);
+  /// Default storage [edges]: two minutes of a 30 Hz strobe, more than any test streams.
+  static constexpr std::size_t kDefaultMaxEdges = 4096;
+  /// Default start of the scripted clock [ns]: 1 s after "boot", so no edge time is zero or negative.
+  static constexpr std::int64_t kDefaultStartNs = kNsPerSecond;
+
+  explicit ScriptedLineIo(std::size_t max_edges = kDefaultMaxEdges, std::int64_t start_ns = kDefaultStartNs);
 
   // ---- script (test thread) ----
 
   /// Queues one event; readEvents() hands queued events out in this order, up to its buffer size at a time.
   /// @throws vifusion::Error when max_edges events have been queued.
   void pushEdge(std::int64_t t_ns, EdgeType type = EdgeType::kRising);
-  /// After the queued events are read, waits return `status` (kGone or kError) with `text` as errorText().
+  /// After the queued events are read, waits return `status` (kGone or kError) with `text` as errorText();
+  /// kEvents clears a scripted failure (the chip is back).
   void failAfterQueued(LineStatus status, const char* text);
   /// The next open() throws vifusion::Error(message).
   void failOpen(std::string message);

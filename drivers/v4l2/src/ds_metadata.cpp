@@ -48,12 +48,11 @@ std::size_t lastRowOffset(std::uint32_t bytes_per_line, int height_rows) {
 /// Offset of the first counter pixel's luma byte, or nullopt when the frame cannot hold the counter.
 std::optional<std::size_t> colourCounterOffset(std::size_t frame_bytes, std::uint32_t bytes_per_line, int width_px,
                                                int height_px) {
-  if (width_px < kColourCounterPixels || height_px < 1 ||
-      bytes_per_line < static_cast<std::uint32_t>(width_px * kYuyvBytesPerPixel)) {
-    return std::nullopt;
-  }
-  const std::size_t row_end =
-      lastRowOffset(bytes_per_line, height_px) + static_cast<std::size_t>(width_px) * kYuyvBytesPerPixel;
+  if (width_px < kColourCounterPixels || height_px < 1) return std::nullopt;
+  // In size_t: width_px × 2 overflows int for widths above 2³⁰ (a corrupt or hostile size).
+  const std::size_t row_bytes = static_cast<std::size_t>(width_px) * kYuyvBytesPerPixel;
+  if (bytes_per_line < row_bytes) return std::nullopt;
+  const std::size_t row_end = lastRowOffset(bytes_per_line, height_px) + row_bytes;
   if (frame_bytes < row_end) return std::nullopt;
   return row_end - static_cast<std::size_t>(kColourCounterPixels) * kYuyvBytesPerPixel;
 }

@@ -348,10 +348,14 @@ std::unique_ptr<usb_imu::UsbLink> ScriptedCamera::motionLink(const discovery::Zr
 bool ScriptedCamera::waitForHotplug(std::int64_t timeout_ns) {
   // A replug within the wait is a udev "add" event: the wait ends then, as HotplugMonitor's would.
   const std::int64_t now = clock_.nowNs();
+  // The wait takes as long in real time too, so that an observer of the service (its status, its health)
+  // sees the camera absent for as long as the script says.
   if (script_.replug_at_ns && now < *script_.replug_at_ns && *script_.replug_at_ns <= now + timeout_ns) {
+    std::this_thread::sleep_for(std::chrono::nanoseconds(*script_.replug_at_ns - now));
     clock_.advanceTo(*script_.replug_at_ns);
     return true;
   }
+  std::this_thread::sleep_for(std::chrono::nanoseconds(timeout_ns));
   clock_.advanceBy(timeout_ns);
   return false;
 }

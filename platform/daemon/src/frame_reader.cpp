@@ -21,8 +21,7 @@ void sleepUntil(std::int64_t until_ns, const std::atomic<bool>& stop) {
 }  // namespace
 
 void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state) {
-  // A camera comes at its own pace: no pacing by timestamps, and a full ring drops the newest frame.
-  if (source.live()) realtime = true;
+  // A camera comes at its own pace: never paced by timestamps.
   const bool paced = realtime && !source.live();
   FrameSlot slot = FrameSlot();
   std::int64_t first_t_ns = 0, start_ns = 0;

@@ -44,14 +44,24 @@ void generateSim(const std::string& preset, const std::filesystem::path& dir) {
 
 }  // namespace
 
+#ifdef VIFUSION_WITH_ZR300
 OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
+  return openSource(config, inertial, nullptr);
+}
+
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial,
+                        std::unique_ptr<zr300::Zr300Backend> backend) {
+#else
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
+#endif
   OpenedSource opened;
   const std::string& source = config.source;
 #ifdef VIFUSION_WITH_ZR300
   if (const std::optional<discovery::Zr300SourceSpec> spec = discovery::parseZr300SourceSpec(source)) {
     zr300::Zr300Options options;
     options.imu = inertial;  // rgbd mode leaves the motion module alone: frames take their kernel times
-    std::unique_ptr<zr300::Zr300Source> camera = zr300::openZr300(*spec, config.calibration, options);
+    std::unique_ptr<zr300::Zr300Source> camera =
+        zr300::openZr300(*spec, config.calibration, options, std::move(backend));
     zr300::Zr300Source* live = camera.get();
     opened.live_imu = live->imuFeed();
     opened.request_stop = [live] { live->requestStop(); };

@@ -11,8 +11,8 @@ namespace vifusion::daemon {
 ///    drops the newest frame and counts an overrun (a sensor never waits).
 ///  realtime = false: as fast as the SLAM thread takes them; the reader waits for a free slot,
 ///    because a dataset replayed for evaluation should lose nothing.
-///  A live source (the camera) is always taken as it comes, whatever `realtime` says: frames are handed
-///  over on arrival and a full ring drops the newest, as with realtime = true.
+///  A live source (the camera) is never paced: frames are handed over as they come; with realtime = true a
+///  full ring drops the newest, with false the reader waits (the camera's driver then drops, counted).
 void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state);
 
 }  // namespace vifusion::daemon

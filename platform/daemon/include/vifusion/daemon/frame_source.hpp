@@ -12,6 +12,9 @@
 #include "vifusion/core/imu_feed.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
+#ifdef VIFUSION_WITH_ZR300
+#include "vifusion/zr300/zr300_backend.hpp"
+#endif
 
 namespace vifusion::daemon {
 
@@ -30,5 +33,10 @@ struct OpenedSource {
 /// `inertial`: the mode needs the IMU (the live camera then streams its motion module).
 /// Throws vifusion::Error saying what failed (generation, the dataset's own error, discovery's message).
 OpenedSource openSource(const config::DaemonConfig& config, bool inertial);
+#ifdef VIFUSION_WITH_ZR300
+/// The same with the live camera reached through `backend` (null: the real devices).
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial,
+                        std::unique_ptr<zr300::Zr300Backend> backend);
+#endif
 
 }  // namespace vifusion::daemon

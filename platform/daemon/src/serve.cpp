@@ -1,0 +1,220 @@
+#include "vifusion/daemon/serve.hpp"
+
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <thread>
+
+#include "vifusion/config/command_line.hpp"
+#include "vifusion/core/imu_feed.hpp"
+#include "vifusion/core/time.hpp"
+#include "vifusion/daemon/frame_reader.hpp"
+#include "vifusion/daemon/frame_source.hpp"
+#include "vifusion/daemon/publisher.hpp"
+#include "vifusion/daemon/slam_worker.hpp"
+#include "vifusion/service/log.hpp"
+#include "vifusion/service/signal_fd.hpp"
+#include "vifusion/service/systemd_notifier.hpp"
+
+namespace vifusion::daemon {
+namespace {
+
+using service::LogLevel;
+using service::logLine;
+
+/// Start-up steps may take this long each before systemd's TimeoutStartSec counts again [µs].
+constexpr std::uint64_t kStartupStepUsec = 60'000'000;
+
+const char* trackingText(const SharedState& state, bool ready) {
+  if (!ready) return "initialising";
+  return state.lost_frames.load() > 0 ? "tracking (with lost frames)" : "tracking";
+}
+
+}  // namespace
+
+#ifdef VIFUSION_WITH_ZR300
+int serve(const config::DaemonConfig& config) { return serve(config, nullptr); }
+
+int serve(const config::DaemonConfig& config, std::unique_ptr<zr300::Zr300Backend> backend) {
+#else
+int serve(const config::DaemonConfig& config) {
+#endif
+  const service::SignalFd signals({SIGTERM, SIGINT, SIGHUP});
+  const service::SystemdNotifier notifier;
+  notifier.extendTimeout(kStartupStepUsec);
+  notifier.status("opening the source");
+
+  slam::SlamOptions slam_options;
+  slam_options.mode = slam::slamModeFromName(config.mode);  // validate() admitted only the valid names
+  slam_options.map.capacity = static_cast<std::uint32_t>(config.map_capacity);  // validate() bounded it
+  const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
+  OpenedSource opened;
+  try {
+#ifdef VIFUSION_WITH_ZR300
+    opened = openSource(config, inertial, std::move(backend));
+#else
+    opened = openSource(config, inertial);
+#endif
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "cannot open source '%s': %s", config.source.c_str(), error.what());
+    return config::kExitSource;
+  }
+  const std::unique_ptr<datasets::DatasetReader>& source = opened.reader;
+  logLine(LogLevel::Info, "source: %s", source->describe().c_str());
+  // The inertial modes need the source's IMU stream; without it, say so now rather than run RGB-D only.
+  if (inertial && (source->live() ? opened.live_imu == nullptr : source->imu().empty())) {
+    logLine(LogLevel::Error,
+            "source '%s' has no IMU data, and mode '%s' needs it: use mode rgbd, or a source with IMU samples "
+            "(dataset:DIR with imu.csv, sim:NAME)",
+            config.source.c_str(), config.mode.c_str());
+    return config::kExitSource;
+  }
+  if (inertial && !source->live()) {
+    logLine(LogLevel::Info, "mode %s: %zu IMU samples", config.mode.c_str(), source->imu().size());
+  }
+  // Borrows the reader's stream: `source` outlives the SLAM thread, joined below.
+  RecordedImuFeed recorded_imu(source->imu());
+  ImuFeed* imu_feed = opened.live_imu != nullptr ? opened.live_imu : &recorded_imu;
+
+  notifier.extendTimeout(kStartupStepUsec);
+  notifier.status("building the GPU pipeline");
+  std::unique_ptr<gpu::GpuContext> context;
+  std::unique_ptr<slam::Slam> pipeline;
+  try {
+    gpu::GpuOptions gpu_options;
+    gpu_options.device = config.device;
+    context = gpu::GpuContext::create(gpu_options.withEnvironment());
+    pipeline = std::make_unique<slam::Slam>(*context, source->calibration(), slam_options);
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "GPU pipeline: %s", error.what());
+    return config::kExitGpu;
+  }
+  logLine(LogLevel::Info, "GPU: %s", context->features().device_name.c_str());
+
+  // Every camera ring slot sized for the calibration's images now: the reader never allocates.
+  const PinholeCamera& camera = source->calibration().camera;
+  FrameSlot prototype;
+  prototype.frame.depth.resize(camera.width, camera.height);
+  prototype.frame.rgb.resize(camera.width, camera.height);
+  constexpr std::size_t kOutputRing = 64;
+  SharedState state(static_cast<std::size_t>(config.frame_ring), prototype, kOutputRing);
+
+  std::unique_ptr<dds::Participant> participant;
+  std::unique_ptr<Publisher> publisher;
+  try {
+    participant = std::make_unique<dds::Participant>(
+        dds::ParticipantOptions{config.dds.domain, config.dds.config, config.dds.partition});
+    publisher = std::make_unique<Publisher>(*participant, config, slam_options.map.confidence_threshold,
+                                            source->calibration().T_S_C, state);
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "DDS: %s", error.what());
+    return config::kExitDds;
+  }
+  logLine(LogLevel::Info, "%s", participant->confinement().description.c_str());
+
+  SlamWorkerOptions worker_options;
+  worker_options.out_dir = config.out;
+  worker_options.max_frames = static_cast<std::uint64_t>(config.max_frames);
+  worker_options.map_period_ns = secondsToNs(config.map_publish_period_s);
+  worker_options.expected_frames = source->frameCount();
+  worker_options.imu = inertial ? imu_feed : nullptr;
+  SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
+
+  notifier.status("waiting for the first frame");
+  std::thread reader_thread([&] { runFrameReader(*source, config.realtime, state); });
+  std::thread slam_thread([&] { worker.run(); });
+  std::thread publisher_thread([&] { publisher->run(); });
+
+  bool ready = false;
+  std::uint64_t petted_frames = 0;
+  std::int64_t next_pet_ns = monotonicNowNs() + notifier.watchdogPeriodNs();
+  std::int64_t next_status_ns = 0;
+  std::int64_t next_extend_ns = monotonicNowNs();
+  bool stopping = false;
+  bool camera_present = true;
+  std::int64_t camera_absent_since_ns = 0;
+  while (!state.slam_done) {
+    const int signal = signals.wait(100);
+    if (signal == SIGTERM || signal == SIGINT) {
+      logLine(LogLevel::Info, "%s: finishing the current frame, writing trajectory.txt and map.ply",
+              signal == SIGTERM ? "SIGTERM" : "SIGINT");
+      state.stop = true;
+    } else if (signal == SIGHUP) {
+      service::reopenLog();
+      logLine(LogLevel::Info, "SIGHUP: log file reopened");
+    }
+    if (state.stop && !stopping) {
+      stopping = true;
+      notifier.stopping();
+      if (opened.request_stop) opened.request_stop();  // a live source may be waiting for its camera
+    }
+    const std::int64_t now_ns = monotonicNowNs();
+    if (opened.report) {
+      opened.report(state);
+      if (state.source_present.load() != camera_present) {
+        camera_present = state.source_present.load();
+        camera_absent_since_ns = now_ns;
+        if (camera_present) {
+          logLine(LogLevel::Info, "camera back: re-opened (%llu times so far), tracking resumes",
+                  static_cast<unsigned long long>(state.source_reopens.load()));
+        } else {
+          logLine(LogLevel::Error, "camera gone (the map is kept; waiting for it to come back): %s",
+                  opened.problem().c_str());
+        }
+        next_status_ns = 0;
+      }
+    }
+    const std::uint64_t frames = state.frames_processed.load();
+    if (!ready && frames > 0) {
+      ready = true;
+      notifier.ready();
+      logLine(LogLevel::Info, "first frame processed: ready");
+    }
+    if (!ready && now_ns >= next_extend_ns) {  // the first frame may need the shaders JIT-compiled
+      notifier.extendTimeout(kStartupStepUsec);
+      next_extend_ns = now_ns + 10 * kNsPerSecond;
+    }
+    // Pet only on progress, or while the live camera is known to be unplugged (then no frame can come, and
+    // the service is doing what it should: waiting for it); a stalled source or a hung GPU lets it fire.
+    if (notifier.watchdogPeriodNs() > 0 && now_ns >= next_pet_ns) {
+      if (frames != petted_frames || !camera_present) notifier.watchdog();
+      petted_frames = frames;
+      next_pet_ns = now_ns + notifier.watchdogPeriodNs();
+    }
+    if (now_ns >= next_status_ns && !camera_present) {
+      char text[200];
+      std::snprintf(text, sizeof(text), "camera absent for %.0f s (unplugged): map kept, %llu frames so far",
+                    nsToSeconds(now_ns - camera_absent_since_ns), static_cast<unsigned long long>(frames));
+      notifier.status(text);
+      next_status_ns = now_ns + kNsPerSecond;
+    }
+    if (now_ns >= next_status_ns) {
+      char text[200];
+      const int length = std::snprintf(text, sizeof(text), "%s: %llu frames, %llu lost, camera ring overruns %llu",
+                                       trackingText(state, ready), static_cast<unsigned long long>(frames),
+                                       static_cast<unsigned long long>(state.lost_frames.load()),
+                                       static_cast<unsigned long long>(state.frames.overruns()));
+      if (inertial && length > 0 && static_cast<std::size_t>(length) < sizeof(text)) {
+        std::snprintf(text + length, sizeof(text) - static_cast<std::size_t>(length),
+                      ", %s: %llu IMU-carried, %llu frames without IMU", config.mode.c_str(),
+                      static_cast<unsigned long long>(state.imu_carried_frames.load()),
+                      static_cast<unsigned long long>(state.imu_issue_frames.load()));
+      }
+      notifier.status(text);
+      next_status_ns = now_ns + kNsPerSecond;
+    }
+  }
+  // The SLAM thread ended (stop, end of source, max_frames or failure): let the others finish.
+  state.stop = true;
+  if (opened.request_stop) opened.request_stop();
+  reader_thread.join();
+  slam_thread.join();
+  publisher_thread.join();
+  const int code = state.exit_code.load();
+  logLine(code == 0 ? LogLevel::Info : LogLevel::Error, "exiting with code %d after %llu frames (%llu lost)", code,
+          static_cast<unsigned long long>(state.frames_processed.load()),
+          static_cast<unsigned long long>(state.lost_frames.load()));
+  return code;
+}
+
+}  // namespace vifusion::daemon

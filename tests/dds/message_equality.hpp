@@ -176,6 +176,8 @@ inline void expectSame(const msg::Status& a, const msg::Status& b, const std::st
   EXPECT_EQ(a.source_reopens, b.source_reopens) << path << ".source_reopens";
   EXPECT_EQ(a.clock_offset_ns, b.clock_offset_ns) << path << ".clock_offset_ns";
   EXPECT_EQ(a.clock_skew_ppm, b.clock_skew_ppm) << path << ".clock_skew_ppm";
+  EXPECT_EQ(a.sync_edge_rate_hz, b.sync_edge_rate_hz) << path << ".sync_edge_rate_hz";
+  EXPECT_EQ(a.sync_edges, b.sync_edges) << path << ".sync_edges";
 }
 
 }  // namespace vifusion::dds::test

@@ -101,6 +101,8 @@ SampleMessages::SampleMessages() {
   status.source_reopens = 1;
   status.clock_offset_ns = -1'234'567'890'123;
   status.clock_skew_ppm = 12.5f;
+  status.sync_edge_rate_hz = 30.0f;
+  status.sync_edges = 901;
 }
 
 }  // namespace vifusion::dds::test

@@ -113,6 +113,11 @@ int runStatus(const StatusCommandOptions& options) {
                             static_cast<unsigned long long>(s.source_reopens));
               status_text += line;
             }
+            if (s.sync_edges > 0 || s.sync_edge_rate_hz > 0.0f) {
+              std::snprintf(line, sizeof(line), "vifusiond: sync line: %.1f edges/s, %llu edges\n",
+                            static_cast<double>(s.sync_edge_rate_hz), static_cast<unsigned long long>(s.sync_edges));
+              status_text += line;
+            }
             have_status = true;
           },
           1);

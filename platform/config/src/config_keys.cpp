@@ -40,6 +40,9 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
       {"health.lost_error_s", "vifusion-health: tracking lost longer than this is ERROR [s]", &c.health.lost_error_s},
       {"health.led_chip", "vifusion-health: status LED gpiochip (\"\": no LED)", &c.health.led_chip},
       {"health.led_line", "vifusion-health: status LED line offset", &c.health.led_line},
+      {"sync.chip", "Sync line (camera strobe, external trigger): gpiochip name or path (\"\": none)", &c.sync.chip},
+      {"sync.line", "Sync line: line offset on sync.chip", &c.sync.line},
+      {"sync.edges", "Sync line: rising, falling or both", &c.sync.edges},
   };
 }
 

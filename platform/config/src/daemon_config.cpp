@@ -20,6 +20,10 @@ void DaemonConfig::validate() const {
   require(!out.empty(), "key 'out' is empty: give the state directory for trajectory.txt and map.ply");
   require(mode == "rgbd" || mode == "rgbdi" || mode == "gyro",
           "key 'mode' = '" + mode + "' is unknown: rgbd, rgbdi or gyro");
+  require(sync.edges == "rising" || sync.edges == "falling" || sync.edges == "both",
+          "key 'sync.edges' = '" + sync.edges + "' is unknown: rising, falling or both");
+  require(sync.line >= 0 && sync.line <= 65535,
+          "key 'sync.line' = " + std::to_string(sync.line) + " is outside [0, 65535]");
   require(max_frames >= 0, "key 'max_frames' = " + std::to_string(max_frames) + " must be >= 0 (0: the whole source)");
   require(frame_ring >= 1 && frame_ring <= 64,
           "key 'frame_ring' = " + std::to_string(frame_ring) + " must be in 1..64");

@@ -152,6 +152,8 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.source_reopens = state_.source_reopens.load();
   status.clock_offset_ns = state_.clock_offset_ns.load();
   status.clock_skew_ppm = static_cast<float>(state_.clock_skew_ppm.load());
+  status.sync_edge_rate_hz = static_cast<float>(state_.sync_edge_rate_hz.load());
+  status.sync_edges = state_.sync_edges.load();
   status_.write(status);
 }
 

@@ -12,6 +12,7 @@
 #include "vifusion/daemon/frame_source.hpp"
 #include "vifusion/daemon/publisher.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
+#include "vifusion/daemon/sync_line_source.hpp"
 #include "vifusion/service/log.hpp"
 #include "vifusion/service/signal_fd.hpp"
 #include "vifusion/service/systemd_notifier.hpp"
@@ -75,6 +76,17 @@ int serve(const config::DaemonConfig& config) {
   // Borrows the reader's stream: `source` outlives the SLAM thread, joined below.
   RecordedImuFeed recorded_imu(source->imu());
   ImuFeed* imu_feed = opened.live_imu != nullptr ? opened.live_imu : &recorded_imu;
+
+  std::unique_ptr<gpio_sync::SyncLine> sync_line;
+  if (!config.sync.chip.empty()) {
+    try {
+      sync_line = openSyncLine(config.sync);
+    } catch (const std::exception& error) {
+      logLine(LogLevel::Error, "sync line: %s", error.what());
+      return config::kExitSource;
+    }
+    logLine(LogLevel::Info, "sync line: %s, %s edges", sync_line->lineName().c_str(), config.sync.edges.c_str());
+  }
 
   notifier.extendTimeout(kStartupStepUsec);
   notifier.status("building the GPU pipeline");
@@ -149,6 +161,7 @@ int serve(const config::DaemonConfig& config) {
       if (opened.request_stop) opened.request_stop();  // a live source may be waiting for its camera
     }
     const std::int64_t now_ns = monotonicNowNs();
+    if (sync_line) reportSyncLine(*sync_line, state);
     if (opened.report) {
       opened.report(state);
       if (state.source_present.load() != camera_present) {

@@ -262,6 +262,8 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "source_reopens", message.source_reopens);
   field(json, "clock_offset_ns", message.clock_offset_ns);
   field(json, "clock_skew_ppm", message.clock_skew_ppm);
+  field(json, "sync_edge_rate_hz", message.sync_edge_rate_hz);
+  field(json, "sync_edges", message.sync_edges);
   json.endObject();
 }
 

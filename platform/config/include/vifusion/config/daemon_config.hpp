@@ -44,6 +44,14 @@ struct HealthConfig {
   std::int64_t led_line = 0;       ///< line offset of the LED on led_chip; lit while every rule is OK
 };
 
+/// The sync line (drivers/gpio_sync): the camera's strobe or an external trigger on a GPIO line, whose
+/// kernel-stamped edges vifusiond reads and counts (`vifusion status` shows their rate).
+struct SyncConfig {
+  std::string chip;              ///< gpiochip name ("gpiochip0") or path; "" = no sync line
+  std::int64_t line = 0;         ///< line offset on the chip, [0, 65535]
+  std::string edges = "rising";  ///< rising, falling or both
+};
+
 struct DaemonConfig {
   std::string source =
       "sim:living_room_0";  ///< sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, zr300[:SERIAL]
@@ -62,6 +70,7 @@ struct DaemonConfig {
   std::string log_file;               ///< log file, reopened on SIGHUP; "" = stderr (the journal)
   DdsConfig dds;
   HealthConfig health;
+  SyncConfig sync;
 
   /// Throws ConfigError naming the first key whose value is out of range.
   void validate() const;

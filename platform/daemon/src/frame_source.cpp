@@ -74,6 +74,7 @@ OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
       state.imu_ring_fill = live->imuRingFill();
       state.imu_ring_capacity = live->imuRingCapacity();
       state.imu_ring_overruns = stats.motion.imu_overruns;
+      state.kernel_timestamp_frames = stats.kernel_timestamps;
     };
     opened.problem = [live] { return live->lastProblem(); };
     opened.reader = std::move(camera);

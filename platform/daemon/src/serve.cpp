@@ -23,6 +23,8 @@ namespace {
 using service::LogLevel;
 using service::logLine;
 
+/// Shortest interval between two warnings about kernel-stamped frames [ns].
+constexpr std::int64_t kKernelStampLogPeriodNs = 5 * kNsPerSecond;
 /// Start-up steps may take this long each before systemd's TimeoutStartSec counts again [µs].
 constexpr std::uint64_t kStartupStepUsec = 60'000'000;
 
@@ -145,6 +147,8 @@ int serve(const config::DaemonConfig& config) {
   bool stopping = false;
   bool camera_present = true;
   std::int64_t camera_absent_since_ns = 0;
+  std::uint64_t kernel_stamped_logged = 0;
+  std::int64_t next_kernel_stamp_log_ns = 0;
   while (!state.slam_done) {
     const int signal = signals.wait(100);
     if (signal == SIGTERM || signal == SIGINT) {
@@ -175,6 +179,17 @@ int serve(const config::DaemonConfig& config) {
                   opened.problem().c_str());
         }
         next_status_ns = 0;
+      }
+      // Frames without the motion module's event take the kernel's time, on another reference than the IMU's:
+      // warn, at most once per kKernelStampLogPeriodNs.
+      const std::uint64_t kernel_stamped = state.kernel_timestamp_frames.load();
+      if (inertial && kernel_stamped > kernel_stamped_logged && now_ns >= next_kernel_stamp_log_ns) {
+        logLine(LogLevel::Warning,
+                "%llu frames so far stamped by the kernel: the motion module sent no event for them (clock mapping "
+                "warming up after a start or re-open, or events lost)",
+                static_cast<unsigned long long>(kernel_stamped));
+        kernel_stamped_logged = kernel_stamped;
+        next_kernel_stamp_log_ns = now_ns + kKernelStampLogPeriodNs;
       }
     }
     const std::uint64_t frames = state.frames_processed.load();

@@ -100,8 +100,9 @@ struct SharedState {
   std::atomic<std::uint64_t> imu_ring_fill{0};   ///< samples waiting in the motion module's ring
   std::atomic<std::uint64_t> imu_ring_capacity{0};
   std::atomic<std::uint64_t> imu_ring_overruns{0};
-  std::atomic<double> sync_edge_rate_hz{0.0};  ///< the sync line's edge rate [Hz] (0 without one)
-  std::atomic<std::uint64_t> sync_edges{0};    ///< its edges so far
+  std::atomic<std::uint64_t> kernel_timestamp_frames{0};  ///< frames stamped by the kernel, not the IMU's event
+  std::atomic<double> sync_edge_rate_hz{0.0};             ///< the sync line's edge rate [Hz] (0 without one)
+  std::atomic<std::uint64_t> sync_edges{0};               ///< its edges so far
   std::atomic<int> exit_code{0};
 
   void fail(int code) {

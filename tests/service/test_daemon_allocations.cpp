@@ -24,8 +24,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <random>
@@ -34,8 +34,8 @@
 #include <thread>
 #include <vector>
 
-#include "vifusion/core/time.hpp"
 #include "vifusion/core/imu_feed.hpp"
+#include "vifusion/core/time.hpp"
 #include "vifusion/daemon/publisher.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
@@ -150,8 +150,7 @@ InertialSequence renderInertialSequence(const RigCalibration& calibration, std::
   InertialSequence sequence;
   sequence.imu = sim::simulateImu(spline, imu_options).samples;
   const Eigen::Matrix3d R_W_room = spline.pose(0).rotationMatrix().transpose();  // W = S at frame 0
-  sequence.last_v_W_mps =
-      R_W_room * spline.kinematics(static_cast<std::int64_t>(frames - 1) * kFramePeriodNs).v_W_mps;
+  sequence.last_v_W_mps = R_W_room * spline.kinematics(static_cast<std::int64_t>(frames - 1) * kFramePeriodNs).v_W_mps;
   sequence.down_W = R_W_room * -Eigen::Vector3d::UnitY();
 
   const scene::LivingRoom room;
@@ -210,8 +209,8 @@ Eigen::Vector3d toEigen(const dds::msg::Vector3& v) { return {v.x, v.y, v.z}; }
 void expectNoAllocationPerFrame(const std::string& mode, const RigCalibration& calibration,
                                 const std::function<const RgbdFrame&(std::size_t)>& frame,
                                 const InertialSequence* inertial) {
-  const std::span<const ImuSample> imu = inertial != nullptr ? std::span<const ImuSample>(inertial->imu)
-                                                             : std::span<const ImuSample>();
+  const std::span<const ImuSample> imu =
+      inertial != nullptr ? std::span<const ImuSample>(inertial->imu) : std::span<const ImuSample>();
   const std::unique_ptr<gpu::GpuContext> context = gpu::GpuContext::create(gpu::GpuOptions{}.withEnvironment());
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(mode);
@@ -230,7 +229,8 @@ void expectNoAllocationPerFrame(const std::string& mode, const RigCalibration& c
   config.dds.config = VIFUSION_DDS_LOOPBACK_CONFIG;
   config.dds.partition = "daemon_allocations_" + std::to_string(::getpid()) + "_" + std::to_string(random());
   config.status_period_s = 0.05;  // several status messages inside the measured window
-  const dds::Participant participant(dds::ParticipantOptions{config.dds.domain, config.dds.config, config.dds.partition});
+  const dds::Participant participant(
+      dds::ParticipantOptions{config.dds.domain, config.dds.config, config.dds.partition});
   // Proof that the publisher really published in the window: the readers keep the last 10 samples.
   dds::Reader odometry(participant, dds::topics::kOdometry);
   dds::Reader imu_state(participant, dds::topics::kImuState);
@@ -288,13 +288,16 @@ void expectNoAllocationPerFrame(const std::string& mode, const RigCalibration& c
     // the estimator's state went out for the last one.
     EXPECT_EQ(state.imu_issue_frames.load(), 0u) << "frames whose IMU samples were refused";
     dds::msg::ImuState last{};
-    EXPECT_EQ(newestStampNs(imu_state, &last), last_stamp_ns) << "the last frame's rt/vifusion/imu_state was not published";
+    EXPECT_EQ(newestStampNs(imu_state, &last), last_stamp_ns)
+        << "the last frame's rt/vifusion/imu_state was not published";
     // What went out is the estimator fed with the right samples: velocity and gravity near the truth.
     const double velocity_error_mps = (toEigen(last.velocity) - inertial->last_v_W_mps).norm();
-    const double gravity_error_rad = std::acos(std::clamp(toEigen(last.gravity_direction).dot(inertial->down_W), -1.0, 1.0));
-    std::printf("rgbdi, last frame: velocity %.4f m/s off the true %.4f m/s (σ %.4f m/s along W x), gravity %.3f° off\n",
-                velocity_error_mps, inertial->last_v_W_mps.norm(), std::sqrt(last.velocity_covariance[0]),
-                gravity_error_rad * 180.0 / M_PI);
+    const double gravity_error_rad =
+        std::acos(std::clamp(toEigen(last.gravity_direction).dot(inertial->down_W), -1.0, 1.0));
+    std::printf(
+        "rgbdi, last frame: velocity %.4f m/s off the true %.4f m/s (σ %.4f m/s along W x), gravity %.3f° off\n",
+        velocity_error_mps, inertial->last_v_W_mps.norm(), std::sqrt(last.velocity_covariance[0]),
+        gravity_error_rad * 180.0 / M_PI);
     EXPECT_LT(velocity_error_mps, 0.02);
     EXPECT_LT(gravity_error_rad, 1.0 * M_PI / 180.0);
   }

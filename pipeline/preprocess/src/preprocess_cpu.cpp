@@ -22,7 +22,8 @@ PreprocessCpu::PreprocessCpu(const PreprocessOptions& options) : options_(option
     const int w = level_camera.width;
     const int h = level_camera.height;
     levels_.push_back({Image<float>(w, h), Image<float>(w, h), Image<VertexPixel>(w, h, VertexPixel::Zero()),
-                       Image<NormalPixel>(w, h, NormalPixel::Zero()), Image<GradientPixel>(w, h, GradientPixel::Zero())});
+                       Image<NormalPixel>(w, h, NormalPixel::Zero()),
+                       Image<GradientPixel>(w, h, GradientPixel::Zero())});
   }
 }
 
@@ -54,7 +55,8 @@ void PreprocessCpu::runStep(PreprocessStep step) {
         const PinholeCamera& fine = cameras_[l - 1];
         pyramidDownDepthCpu(levels_[l - 1].depth_m.view(), {fine.width, fine.height, options_.pyramid_range_gate_m},
                             levels_[l].depth_m.view());
-        pyramidDownIntensityCpu(levels_[l - 1].intensity.view(), {fine.width, fine.height}, levels_[l].intensity.view());
+        pyramidDownIntensityCpu(levels_[l - 1].intensity.view(), {fine.width, fine.height},
+                                levels_[l].intensity.view());
       }
       break;
     case PreprocessStep::VerticesAndGradients:

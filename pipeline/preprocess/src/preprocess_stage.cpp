@@ -46,11 +46,13 @@ void validateRegistration(const PreprocessOptions& options) {
 void PreprocessOptions::validate() const {
   if (camera.width <= 0 || camera.height <= 0) throw Error(field("camera") + ": image size is not set");
   if (camera.width % 2 != 0) {
-    throw Error(field("camera") + ": width " + std::to_string(camera.width) + " is odd (depth is packed 2 pixels a word)");
+    throw Error(field("camera") + ": width " + std::to_string(camera.width) +
+                " is odd (depth is packed 2 pixels a word)");
   }
   if (levels < 1 || (camera.width >> (levels - 1)) < 8 || (camera.height >> (levels - 1)) < 8) {
-    throw Error(field("levels") + ": " + std::to_string(levels) + " levels leave fewer than 8 px at the coarsest level of " +
-                std::to_string(camera.width) + "x" + std::to_string(camera.height));
+    throw Error(field("levels") + ": " + std::to_string(levels) +
+                " levels leave fewer than 8 px at the coarsest level of " + std::to_string(camera.width) + "x" +
+                std::to_string(camera.height));
   }
   if (!(metric.depth_scale_m > 0.0f)) throw Error(field("metric.depth_scale_m") + " must be > 0");
   static_assert(kMaxInverseDepthBias_per_m == 0.1, "the message below quotes the bound");
@@ -62,14 +64,16 @@ void PreprocessOptions::validate() const {
     throw Error(field("metric") + ": need 0 ≤ min_depth_m < max_depth_m, got " + std::to_string(metric.min_depth_m) +
                 " and " + std::to_string(metric.max_depth_m));
   }
-  if (bilateral.radius_px < 0 || bilateral.radius_px > 15) throw Error(field("bilateral.radius_px") + " must be in 0..15");
+  if (bilateral.radius_px < 0 || bilateral.radius_px > 15)
+    throw Error(field("bilateral.radius_px") + " must be in 0..15");
   if (!(bilateral.sigma_space_px > 0.0f)) throw Error(field("bilateral.sigma_space_px") + " must be > 0");
   if (!(bilateral.range_sigmas > 0.0f)) throw Error(field("bilateral.range_sigmas") + " must be > 0");
   if (!(bilateral.noise_a_m > 0.0f)) throw Error(field("bilateral.noise_a_m") + " must be > 0");
   if (!(bilateral.noise_b_per_m >= 0.0f)) throw Error(field("bilateral.noise_b_per_m") + " must be ≥ 0");
   if (!(pyramid_range_gate_m > 0.0f)) throw Error(field("pyramid_range_gate_m") + " must be > 0");
   if (!(normals.min_cross_norm_m2 >= 1e-18f)) throw Error(field("normals.min_cross_norm_m2") + " must be ≥ 1e-18");
-  if (!(normal_span_rad > 0.0f && normal_span_rad < 0.1f)) throw Error(field("normal_span_rad") + " must be in (0, 0.1)");
+  if (!(normal_span_rad > 0.0f && normal_span_rad < 0.1f))
+    throw Error(field("normal_span_rad") + " must be in (0, 0.1)");
   if (workgroup_size == 0 || workgroup_size > 32) throw Error(field("workgroup_size") + " must be in 1..32");
   if (registration) validateRegistration(*this);
 }
@@ -84,12 +88,18 @@ NormalMapParams PreprocessOptions::normalParams(const PinholeCamera& level_camer
 
 const char* preprocessStepName(PreprocessStep step) {
   switch (step) {
-    case PreprocessStep::RegisterDepth: return "register_depth";
-    case PreprocessStep::MetricAndIntensity: return "metric_and_intensity";
-    case PreprocessStep::Bilateral: return "bilateral";
-    case PreprocessStep::Pyramids: return "pyramids";
-    case PreprocessStep::VerticesAndGradients: return "vertices_and_gradients";
-    case PreprocessStep::Normals: return "normals";
+    case PreprocessStep::RegisterDepth:
+      return "register_depth";
+    case PreprocessStep::MetricAndIntensity:
+      return "metric_and_intensity";
+    case PreprocessStep::Bilateral:
+      return "bilateral";
+    case PreprocessStep::Pyramids:
+      return "pyramids";
+    case PreprocessStep::VerticesAndGradients:
+      return "vertices_and_gradients";
+    case PreprocessStep::Normals:
+      return "normals";
   }
   return "?";
 }
@@ -124,7 +134,8 @@ PreprocessStage::PreprocessStage(gpu::GpuContext& context, gpu::CapacityPlan& pl
         plan.addBuffer("preprocess.depth_registered", packedDepthWordCount(camera.width, camera.height) * 4,
                        gpu::MemoryUse::DeviceLocal);
   }
-  rgb_words_ = plan.addBuffer("preprocess.rgb", packedRgbWordCount(camera.width, camera.height) * 4, gpu::MemoryUse::Upload);
+  rgb_words_ =
+      plan.addBuffer("preprocess.rgb", packedRgbWordCount(camera.width, camera.height) * 4, gpu::MemoryUse::Upload);
   raw_depth_m_ = plan.addBuffer("preprocess.depth_metric", pixels(camera) * sizeof(float), gpu::MemoryUse::DeviceLocal);
   filtered_vertices_ =
       plan.addBuffer("preprocess.vertices_filtered", pixels(camera) * sizeof(VertexPixel), gpu::MemoryUse::DeviceLocal);
@@ -171,9 +182,10 @@ void PreprocessStage::build(const gpu::MemoryArena& arena) {
   k.metric = make("depth_to_metric", shaders::depth_to_metric, 2, sizeof(DepthToMetricParams), 1);
   k.intensity = make("rgb_to_intensity", shaders::rgb_to_intensity, 2, sizeof(RgbToIntensityParams), 1);
   k.bilateral = make("bilateral_depth", shaders::bilateral_depth, 2, sizeof(BilateralDepthParams), 1);
-  k.pyramid_depth = make("pyramid_down_depth", shaders::pyramid_down_depth, 2, sizeof(PyramidDownDepthParams), pyramid_sets);
-  k.pyramid_intensity =
-      make("pyramid_down_intensity", shaders::pyramid_down_intensity, 2, sizeof(PyramidDownIntensityParams), pyramid_sets);
+  k.pyramid_depth =
+      make("pyramid_down_depth", shaders::pyramid_down_depth, 2, sizeof(PyramidDownDepthParams), pyramid_sets);
+  k.pyramid_intensity = make("pyramid_down_intensity", shaders::pyramid_down_intensity, 2,
+                             sizeof(PyramidDownIntensityParams), pyramid_sets);
   k.vertices = make("vertex_map", shaders::vertex_map, 2, sizeof(VertexMapParams), levels + 1);
   k.normals = make("normal_map", shaders::normal_map, 2, sizeof(NormalMapParams), levels);
   k.gradients = make("intensity_gradient", shaders::intensity_gradient, 2, sizeof(IntensityGradientParams), levels);
@@ -190,7 +202,8 @@ void PreprocessStage::build(const gpu::MemoryArena& arena) {
           k.pyramid_intensity->bind({buffer(levels_[l - 1].intensity), buffer(level.intensity)}));
     }
     k.vertex_sets.push_back(k.vertices->bind({buffer(l == 0 ? raw_depth_m_ : level.depth_m), buffer(level.vertices)}));
-    k.normal_sets.push_back(k.normals->bind({buffer(l == 0 ? filtered_vertices_ : level.vertices), buffer(level.normals)}));
+    k.normal_sets.push_back(
+        k.normals->bind({buffer(l == 0 ? filtered_vertices_ : level.vertices), buffer(level.normals)}));
     k.gradient_sets.push_back(k.gradients->bind({buffer(level.intensity), buffer(level.gradients)}));
   }
 }
@@ -217,7 +230,8 @@ void PreprocessStage::record(gpu::CommandRecorder& recorder) const {
 void PreprocessStage::recordStep(gpu::CommandRecorder& recorder, PreprocessStep step) const {
   const Kernels& k = *kernels_;
   const auto groups = [&](const gpu::ComputeKernel& kernel, int level) {
-    return kernel.groupsFor(static_cast<uint32_t>(cameras_[level].width), static_cast<uint32_t>(cameras_[level].height));
+    return kernel.groupsFor(static_cast<uint32_t>(cameras_[level].width),
+                            static_cast<uint32_t>(cameras_[level].height));
   };
   switch (step) {
     case PreprocessStep::RegisterDepth:
@@ -252,10 +266,12 @@ void PreprocessStage::recordStep(gpu::CommandRecorder& recorder, PreprocessStep 
     case PreprocessStep::Pyramids:
       // Level l needs level l−1, so each level is its own barrier-separated pass.
       for (int l = 1; l < options_.levels; ++l) {
-        const PyramidDownDepthParams depth{cameras_[l - 1].width, cameras_[l - 1].height, options_.pyramid_range_gate_m};
+        const PyramidDownDepthParams depth{cameras_[l - 1].width, cameras_[l - 1].height,
+                                           options_.pyramid_range_gate_m};
         const PyramidDownIntensityParams intensity{cameras_[l - 1].width, cameras_[l - 1].height};
         recorder.dispatch(*k.pyramid_depth, k.pyramid_depth_sets[l - 1], groups(*k.pyramid_depth, l), depth);
-        recorder.dispatch(*k.pyramid_intensity, k.pyramid_intensity_sets[l - 1], groups(*k.pyramid_intensity, l), intensity);
+        recorder.dispatch(*k.pyramid_intensity, k.pyramid_intensity_sets[l - 1], groups(*k.pyramid_intensity, l),
+                          intensity);
         if (l + 1 < options_.levels) recorder.computeBarrier();
       }
       break;
@@ -265,7 +281,8 @@ void PreprocessStage::recordStep(gpu::CommandRecorder& recorder, PreprocessStep 
                           VertexMapParams::fromCamera(cameras_[0]));
       }
       for (int l = 0; l < options_.levels; ++l) {
-        recorder.dispatch(*k.vertices, k.vertex_sets[l], groups(*k.vertices, l), VertexMapParams::fromCamera(cameras_[l]));
+        recorder.dispatch(*k.vertices, k.vertex_sets[l], groups(*k.vertices, l),
+                          VertexMapParams::fromCamera(cameras_[l]));
         const IntensityGradientParams gradient{cameras_[l].width, cameras_[l].height};
         recorder.dispatch(*k.gradients, k.gradient_sets[l], groups(*k.gradients, l), gradient);
       }

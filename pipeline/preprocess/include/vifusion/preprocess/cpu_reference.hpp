@@ -27,12 +27,10 @@
 namespace vifusion::preprocess {
 
 /// depth_to_metric.comp. raw: sensor units; depth_m: [m], 0 = invalid.
-void depthToMetricCpu(ImageView<const std::uint16_t> raw, const DepthToMetricParams& params,
-                      ImageView<float> depth_m);
+void depthToMetricCpu(ImageView<const std::uint16_t> raw, const DepthToMetricParams& params, ImageView<float> depth_m);
 
 /// bilateral_depth.comp. depth_m, filtered_m: [m], 0 = invalid; must not alias.
-void bilateralDepthCpu(ImageView<const float> depth_m, const BilateralDepthParams& params,
-                       ImageView<float> filtered_m);
+void bilateralDepthCpu(ImageView<const float> depth_m, const BilateralDepthParams& params, ImageView<float> filtered_m);
 
 /// pyramid_down_depth.comp. fine_m: src_width × src_height; coarse_m: (src_width/2) × (src_height/2).
 void pyramidDownDepthCpu(ImageView<const float> fine_m, const PyramidDownDepthParams& params,
@@ -43,16 +41,13 @@ void pyramidDownIntensityCpu(ImageView<const float> fine, const PyramidDownInten
                              ImageView<float> coarse);
 
 /// rgb_to_intensity.comp. intensity: [0..255].
-void rgbToIntensityCpu(ImageView<const Rgb8> rgb, const RgbToIntensityParams& params,
-                       ImageView<float> intensity);
+void rgbToIntensityCpu(ImageView<const Rgb8> rgb, const RgbToIntensityParams& params, ImageView<float> intensity);
 
 /// vertex_map.comp. depth_m: [m], 0 = invalid; vertices: (x, y, z, 1) [m], Zero() = invalid.
-void vertexMapCpu(ImageView<const float> depth_m, const VertexMapParams& params,
-                  ImageView<VertexPixel> vertices);
+void vertexMapCpu(ImageView<const float> depth_m, const VertexMapParams& params, ImageView<VertexPixel> vertices);
 
 /// normal_map.comp. vertices: invalid where z ≤ 0; normals: unit, n·v < 0, Zero() = invalid.
-void normalMapCpu(ImageView<const VertexPixel> vertices, const NormalMapParams& params,
-                  ImageView<NormalPixel> normals);
+void normalMapCpu(ImageView<const VertexPixel> vertices, const NormalMapParams& params, ImageView<NormalPixel> normals);
 
 /// register_depth.comp (scatter and resolve passes): raw: depth_width × depth_height [units],
 /// 0 = invalid; registered: colour_width × colour_height [the same units], 0 = nothing landed; must not

@@ -27,12 +27,12 @@ inline constexpr float kPyramidWeights[5] = {0.0625f, 0.25f, 0.375f, 0.25f, 0.06
 /// systematic error is removed first: z = z_raw / (1 − b·z_raw), z_raw = raw·depth_scale_m, which is
 /// 1/z = 1/z_raw − b (RigCalibration::inverse_depth_bias_per_m); b = 0 leaves z_raw bit for bit.
 struct DepthToMetricParams {
-  std::int32_t width = 0;                ///< image width [px]
-  std::int32_t height = 0;               ///< image height [px]
-  float depth_scale_m = 0.001f;          ///< metres per raw unit: 0.001 for millimetre sensors, 1/5000 for TUM/ICL-NUIM
-  float min_depth_m = 0.3f;              ///< smallest kept depth [m], inclusive (after the correction)
-  float max_depth_m = 4.0f;              ///< largest kept depth [m], inclusive (after the correction)
-  float inverse_depth_bias_per_m = 0.0f; ///< b: the sensor's 1/z reads b too high [1/m]
+  std::int32_t width = 0;        ///< image width [px]
+  std::int32_t height = 0;       ///< image height [px]
+  float depth_scale_m = 0.001f;  ///< metres per raw unit: 0.001 for millimetre sensors, 1/5000 for TUM/ICL-NUIM
+  float min_depth_m = 0.3f;      ///< smallest kept depth [m], inclusive (after the correction)
+  float max_depth_m = 4.0f;      ///< largest kept depth [m], inclusive (after the correction)
+  float inverse_depth_bias_per_m = 0.0f;  ///< b: the sensor's 1/z reads b too high [1/m]
 };
 
 /// bilateral_depth.comp: edge-preserving depth smoothing. Window and σ_space are ElasticFusion's;
@@ -60,38 +60,38 @@ struct BilateralDepthParams {
 
 /// pyramid_down_depth.comp: (src_width, src_height) → (src_width/2, src_height/2), floor.
 struct PyramidDownDepthParams {
-  std::int32_t src_width = 0;     ///< fine-level width [px]
-  std::int32_t src_height = 0;    ///< fine-level height [px]
-  float range_gate_m = 0.09f;     ///< neighbours farther than this from the centre depth are not averaged
-                                  ///< [m], inclusive; 3·σ_range with σ_range = 0.03 m
+  std::int32_t src_width = 0;   ///< fine-level width [px]
+  std::int32_t src_height = 0;  ///< fine-level height [px]
+  float range_gate_m = 0.09f;   ///< neighbours farther than this from the centre depth are not averaged
+                                ///< [m], inclusive; 3·σ_range with σ_range = 0.03 m
 };
 
 /// pyramid_down_intensity.comp: (src_width, src_height) → (src_width/2, src_height/2), floor.
 struct PyramidDownIntensityParams {
-  std::int32_t src_width = 0;     ///< fine-level width [px]
-  std::int32_t src_height = 0;    ///< fine-level height [px]
+  std::int32_t src_width = 0;   ///< fine-level width [px]
+  std::int32_t src_height = 0;  ///< fine-level height [px]
 };
 
 /// rgb_to_intensity.comp: intensity = weight_r·R + weight_g·G + weight_b·B on the 0..255 scale.
 /// Defaults are Rec. 601 luma; ElasticFusion's permuted weights are deliberately not used.
 /// A BGR source swaps weight_r and weight_b (the weights apply to bytes 0, 1, 2 of each pixel).
 struct RgbToIntensityParams {
-  std::int32_t width = 0;         ///< image width [px]
-  std::int32_t height = 0;        ///< image height [px]
-  float weight_r = 0.299f;        ///< weight of byte 0 of each pixel [1]
-  float weight_g = 0.587f;        ///< weight of byte 1 [1]
-  float weight_b = 0.114f;        ///< weight of byte 2 [1]
+  std::int32_t width = 0;   ///< image width [px]
+  std::int32_t height = 0;  ///< image height [px]
+  float weight_r = 0.299f;  ///< weight of byte 0 of each pixel [1]
+  float weight_g = 0.587f;  ///< weight of byte 1 [1]
+  float weight_b = 0.114f;  ///< weight of byte 2 [1]
 };
 
 /// vertex_map.comp: pinhole back-projection of metric depth. No default intrinsics: set them
 /// (fromCamera) for the pyramid level being processed.
 struct VertexMapParams {
-  std::int32_t width = 0;         ///< image width [px]
-  std::int32_t height = 0;        ///< image height [px]
-  float fx = 0.0f;                ///< focal length along u [px]
-  float fy = 0.0f;                ///< focal length along v [px]; may be negative (ICL-NUIM)
-  float cx = 0.0f;                ///< principal point u [px], pixel centres at integer coordinates
-  float cy = 0.0f;                ///< principal point v [px]
+  std::int32_t width = 0;   ///< image width [px]
+  std::int32_t height = 0;  ///< image height [px]
+  float fx = 0.0f;          ///< focal length along u [px]
+  float fy = 0.0f;          ///< focal length along v [px]; may be negative (ICL-NUIM)
+  float cx = 0.0f;          ///< principal point u [px], pixel centres at integer coordinates
+  float cy = 0.0f;          ///< principal point v [px]
 
   /// Intrinsics of `camera` (already at the wanted pyramid level, e.g. camera.atLevel(l)), in float.
   static VertexMapParams fromCamera(const PinholeCamera& camera) {
@@ -107,21 +107,21 @@ struct VertexMapParams {
 /// normal_map.comp: normals from central differences span_px pixels either side,
 /// n ∝ (v(x+s, y) − v(x−s, y)) × (v(x, y+s) − v(x, y−s)).
 struct NormalMapParams {
-  std::int32_t width = 0;            ///< image width [px]
-  std::int32_t height = 0;           ///< image height [px]
+  std::int32_t width = 0;   ///< image width [px]
+  std::int32_t height = 0;  ///< image height [px]
   /// Smallest accepted |a × b| [m²] (the area spanned by the two differences). A
   /// fronto-parallel pixel footprint at the nearest gated depth (0.3 m, f ≈ 500 px) spans
   /// ≈ 4e-7 m², so 1e-12 m² rejects only coincident or collinear neighbours, never a real
   /// (even grazing) surface. Compared squared; keep it ≥ 1e-18 so that the square stays a
   /// normal float on GPUs that flush denormals.
   float min_cross_norm_m2 = 1e-12f;
-  std::int32_t span_px = 1;          ///< s ≥ 1: half the baseline of each difference [px]
+  std::int32_t span_px = 1;  ///< s ≥ 1: half the baseline of each difference [px]
 };
 
 /// intensity_gradient.comp: Sobel 3 × 3 / 8 with border replicate.
 struct IntensityGradientParams {
-  std::int32_t width = 0;         ///< image width [px]
-  std::int32_t height = 0;        ///< image height [px]
+  std::int32_t width = 0;   ///< image width [px]
+  std::int32_t height = 0;  ///< image height [px]
 };
 
 /// register_depth.comp (both passes): raw depth of the depth camera D → raw depth in the pixels of the
@@ -146,7 +146,7 @@ struct RegisterDepthParams {
 
 // Layout pins: offsets follow the GLSL member order, 4 bytes per member.
 template <typename T>
-inline constexpr bool kIsPushConstantBlock = std::is_standard_layout_v<T> && std::is_trivially_copyable_v<T> &&
+inline constexpr bool kIsPushConstantBlock = std::is_standard_layout_v<T>&& std::is_trivially_copyable_v<T> &&
                                              sizeof(T) % 4 == 0 && sizeof(T) <= kMaxPushConstantBytes;
 
 static_assert(kIsPushConstantBlock<DepthToMetricParams>);

@@ -30,17 +30,17 @@ struct PreprocessOptions {
   /// camera must equal `camera` and its depth scale metric.depth_scale_m. Unset, or an identity
   /// registration (isIdentity()), skips the step: depth is already registered (datasets, simulator).
   std::optional<DepthRegistration> registration;
-  int levels = 3;        ///< pyramid levels, each half the size of the previous
-  DepthToMetricParams metric;         ///< width/height are taken from `camera`
-  BilateralDepthParams bilateral;     ///< width/height are taken from `camera`
-  float pyramid_range_gate_m = 0.09f; ///< depth pyramid: neighbours farther from the centre are ignored [m]
-  RgbToIntensityParams intensity;     ///< width/height are taken from `camera`
-  NormalMapParams normals;            ///< width, height and span_px are set per level
+  int levels = 3;                      ///< pyramid levels, each half the size of the previous
+  DepthToMetricParams metric;          ///< width/height are taken from `camera`
+  BilateralDepthParams bilateral;      ///< width/height are taken from `camera`
+  float pyramid_range_gate_m = 0.09f;  ///< depth pyramid: neighbours farther from the centre are ignored [m]
+  RgbToIntensityParams intensity;      ///< width/height are taken from `camera`
+  NormalMapParams normals;             ///< width, height and span_px are set per level
   /// Half-baseline of the normals' central differences as a viewing angle [rad]: span_px at a level
   /// is max(1, round(normal_span_rad · fx)), so 4 px at 640 × 480 (fx ≈ 480), 2 px at 320 × 240, and
   /// the normals describe the same surface patch at every resolution and pyramid level.
   float normal_span_rad = 0.012f;
-  uint32_t workgroup_size = 16;       ///< square workgroups of workgroup_size² invocations
+  uint32_t workgroup_size = 16;  ///< square workgroups of workgroup_size² invocations
 
   /// Throws vifusion::Error naming the field: odd width (packed depth), too many levels for the
   /// image, non-positive scales, sigmas or gates, min depth ≥ max depth.
@@ -73,11 +73,11 @@ const char* preprocessStepName(PreprocessStep step);
 /// plateaus whose one-pixel normals face the camera. Coarser levels are built from the filtered depth
 /// and only seed the finer ones.
 struct LevelBuffers {
-  gpu::BufferId depth_m;     ///< filtered metric depth, float [m], 0 = invalid
-  gpu::BufferId intensity;   ///< float [0..255]
-  gpu::BufferId vertices;    ///< VertexPixel, camera frame [m]; level 0 from the unfiltered depth
-  gpu::BufferId normals;     ///< NormalPixel, from the filtered depth
-  gpu::BufferId gradients;   ///< GradientPixel [intensity / px]
+  gpu::BufferId depth_m;    ///< filtered metric depth, float [m], 0 = invalid
+  gpu::BufferId intensity;  ///< float [0..255]
+  gpu::BufferId vertices;   ///< VertexPixel, camera frame [m]; level 0 from the unfiltered depth
+  gpu::BufferId normals;    ///< NormalPixel, from the filtered depth
+  gpu::BufferId gradients;  ///< GradientPixel [intensity / px]
 };
 
 class PreprocessStage {

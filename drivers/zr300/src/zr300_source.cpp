@@ -308,7 +308,11 @@ bool Zr300Source::takeColour(std::uint32_t counter, Step& step) {
 
 std::int64_t Zr300Source::frameTime(std::uint32_t counter, std::int64_t kernel_mid_ns) {
   if (motion_) {
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::nanoseconds(options_.frame_event_wait_ns);
+    // Until the clock mapping is valid (its first min_span_s after a start or re-open) the module publishes
+    // no events: look once, do not wait, so the camera thread keeps the frame rate meanwhile.
+    const bool events_flow = motion_->stats().clock_state == clock::ClockMapperState::kValid;
+    const auto wait_ns = events_flow ? options_.frame_event_wait_ns : 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::nanoseconds(wait_ns);
     usb_imu::DepthFrameEvent event;
     while (true) {
       while (motion_->frameEventRing().tryPop(event)) events_.add(event);

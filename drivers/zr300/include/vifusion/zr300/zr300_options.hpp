@@ -43,7 +43,8 @@ struct Zr300Options {
   /// Longest wait for one buffer before the loop checks for stop or unplug [ns], [1 ms, 1 s].
   std::int64_t poll_timeout_ns = 100'000'000;
   /// Longest wait for the motion module's event of a depth frame before the frame falls back to its kernel
-  /// mid-exposure time (counted) [ns], [0, 1 s]. Events travel in interrupt transfers a few ms apart.
+  /// mid-exposure time (counted) [ns], [0, 1 s]. Events travel in interrupt transfers a few ms apart. No wait
+  /// while the device clock's mapping is still warming up (no events are published then).
   std::int64_t frame_event_wait_ns = 30'000'000;
   /// Largest |event time − kernel mid-exposure time| for an event to belong to the frame [ns], (0, 1 s].
   /// Frame numbers are 12-bit (they repeat every 136 s at 30 Hz); the two clocks agree to USB latency.

@@ -63,6 +63,20 @@ RigCalibration calibrationFor(const CameraScript& script) {
   return calibration;
 }
 
+/// The live source on a scripted camera playing `script`, with default options at the script's preset.
+struct ScriptedSource {
+  explicit ScriptedSource(CameraScript script) {
+    auto owned = std::make_unique<ScriptedCamera>(std::move(script));
+    camera = owned.get();
+    zr300::Zr300Options options;
+    options.preset = camera->script().preset;
+    source = std::make_unique<zr300::Zr300Source>(std::move(owned), discovery::Zr300SourceSpec{},
+                                                  calibrationFor(camera->script()), options);
+  }
+  ScriptedCamera* camera = nullptr;  ///< owned by the source
+  std::unique_ptr<zr300::Zr300Source> source;
+};
+
 /// Every distinct IMU sample the feed handed out, in order (windows overlap).
 class ImuCollector {
  public:
@@ -81,16 +95,14 @@ TEST(LiveSource, ThirtySecondsComeOutAsScriptedFramesImuAndTimes) {
   CameraScript script = proceduralScript(30.0);
   const std::vector<std::int64_t> frame_t = script.frame_t_ns;
   const std::vector<RawImu> imu = script.imu;
-  auto camera = std::make_unique<ScriptedCamera>(std::move(script));
-  ScriptedCamera& scripted = *camera;
-  zr300::Zr300Options options;
-  options.preset = scripted.script().preset;
-  zr300::Zr300Source source(std::move(camera), {}, calibrationFor(scripted.script()), options);
+  ScriptedSource scripted_source(std::move(script));
+  ScriptedCamera& scripted = *scripted_source.camera;
+  zr300::Zr300Source& source = *scripted_source.source;
   EXPECT_DOUBLE_EQ(source.calibration().depth_scale_m, 1.0 / 5000.0);
   ASSERT_NE(source.imuFeed(), nullptr);
 
-  const int width = options.preset.width_px;
-  const int height = options.preset.height_px;
+  const int width = scripted.script().preset.width_px;
+  const int height = scripted.script().preset.height_px;
   Image<Rgb8> script_rgb(width, height), expected(width, height);
   RgbdFrame frame;
   ImuCollector collected;
@@ -164,11 +176,8 @@ TEST(LiveSource, UnplugAndReplugLoseNothingDeliveredAndStreamingResumes) {
   script.unplug_at_ns = unplug_ns;
   script.replug_at_ns = replug_ns;
   const std::vector<std::int64_t> frame_t = script.frame_t_ns;
-  auto camera = std::make_unique<ScriptedCamera>(std::move(script));
-  ScriptedCamera& scripted = *camera;
-  zr300::Zr300Options options;
-  options.preset = scripted.script().preset;
-  zr300::Zr300Source source(std::move(camera), {}, calibrationFor(scripted.script()), options);
+  ScriptedSource scripted_source(std::move(script));
+  zr300::Zr300Source& source = *scripted_source.source;
 
   RgbdFrame frame;
   std::vector<std::int64_t> times;
@@ -205,11 +214,8 @@ TEST(LiveSource, SteadyStreamingAllocatesNothing) {
   // nextFrame() and IMU window, with the scripted devices on the same threads. Heap allocations in the whole
   // process are counted over 200 frames after a warm-up of 100 (the recycled ring slots are sized then).
   CameraScript script = proceduralScript(12.0);
-  auto camera = std::make_unique<ScriptedCamera>(std::move(script));
-  ScriptedCamera& scripted = *camera;
-  zr300::Zr300Options options;
-  options.preset = scripted.script().preset;
-  zr300::Zr300Source source(std::move(camera), {}, calibrationFor(scripted.script()), options);
+  ScriptedSource scripted_source(std::move(script));
+  zr300::Zr300Source& source = *scripted_source.source;
   RgbdFrame frame;
   constexpr int kWarmUp = 100;
   constexpr int kMeasured = 200;

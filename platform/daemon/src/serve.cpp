@@ -47,6 +47,18 @@ int serve(const config::DaemonConfig& config) {
   notifier.extendTimeout(kStartupStepUsec);
   notifier.status("opening the source");
 
+  // The sync line first: it is checked in a moment, the source may take minutes (a sim: preset is generated).
+  std::unique_ptr<gpio_sync::SyncLine> sync_line;
+  if (!config.sync.chip.empty()) {
+    try {
+      sync_line = openSyncLine(config.sync);
+    } catch (const std::exception& error) {
+      logLine(LogLevel::Error, "sync line: %s", error.what());
+      return config::kExitSource;
+    }
+    logLine(LogLevel::Info, "sync line: %s, %s edges", sync_line->lineName().c_str(), config.sync.edges.c_str());
+  }
+
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(config.mode);  // validate() admitted only the valid names
   slam_options.map.capacity = static_cast<std::uint32_t>(config.map_capacity);  // validate() bounded it
@@ -78,17 +90,6 @@ int serve(const config::DaemonConfig& config) {
   // Borrows the reader's stream: `source` outlives the SLAM thread, joined below.
   RecordedImuFeed recorded_imu(source->imu());
   ImuFeed* imu_feed = opened.live_imu != nullptr ? opened.live_imu : &recorded_imu;
-
-  std::unique_ptr<gpio_sync::SyncLine> sync_line;
-  if (!config.sync.chip.empty()) {
-    try {
-      sync_line = openSyncLine(config.sync);
-    } catch (const std::exception& error) {
-      logLine(LogLevel::Error, "sync line: %s", error.what());
-      return config::kExitSource;
-    }
-    logLine(LogLevel::Info, "sync line: %s, %s edges", sync_line->lineName().c_str(), config.sync.edges.c_str());
-  }
 
   notifier.extendTimeout(kStartupStepUsec);
   notifier.status("building the GPU pipeline");

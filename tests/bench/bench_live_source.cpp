@@ -54,6 +54,7 @@ void BM_LiveSourceDriverCpu(benchmark::State& state) {
     RigCalibration calibration;
     calibration.camera = PinholeCamera::create(preset.width_px, preset.height_px, 1.0 * preset.width_px,
                                                1.0 * preset.width_px, 0.5 * preset.width_px, 0.5 * preset.height_px);
+    calibration.depth_camera = DepthCameraCalibration{calibration.camera, SE3d()};
     zr300::Zr300Options options;
     options.preset = preset;
     zr300::Zr300Source source(std::move(camera), {}, calibration, options);

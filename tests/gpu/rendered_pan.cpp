@@ -11,12 +11,15 @@
 
 namespace vifusion::test {
 
-Pan renderPan(const PinholeCamera& camera) {
+Pan renderPan(const PinholeCamera& camera) { return renderPan(camera, DepthCameraCalibration{camera, SE3d()}); }
+
+Pan renderPan(const PinholeCamera& camera, const DepthCameraCalibration& depth) {
   const scene::LivingRoom room;
   scene::RowPool pool(2);
   const scene::Renderer renderer(room, pool);
   Pan pan;
   Image<float> depth_m(camera.width, camera.height);
+  Image<Rgb8> unused_rgb(camera.width, camera.height);
   for (int i = 0; i < 40; ++i) {
     const double yaw_rad = 0.004 * i;
     const Eigen::Vector3d eye_W(1.1 + 0.002 * i, 1.3, 0.8);
@@ -27,6 +30,9 @@ Pan renderPan(const PinholeCamera& camera) {
     frame.depth_scale_m = 0.001;
     pan.T_W_C.push_back(scene::lookAt(eye_W, target_W));
     renderer.render(pan.T_W_C.back(), camera, frame.rgb.view(), depth_m.view());
+    if (!(depth.T_C_D.log().norm() == 0.0 && depth.camera.fx == camera.fx && depth.camera.cx == camera.cx)) {
+      renderer.render(pan.T_W_C.back() * depth.T_C_D, depth.camera, unused_rgb.view(), depth_m.view());
+    }
     for (int y = 0; y < camera.height; ++y) {
       for (int x = 0; x < camera.width; ++x) {
         frame.depth(x, y) = static_cast<std::uint16_t>(std::lround(depth_m(x, y) * 1000.0f));

@@ -18,6 +18,9 @@ struct Pan {
 /// 40 frames along the pan (2 mm and 0.23° per frame); played forwards and backwards (panFrameIndex)
 /// they make a continuous sequence that keeps tracking and fusing.
 Pan renderPan(const PinholeCamera& camera);
+/// The same pan with depth seen by a second camera `depth` beside the colour camera (its images the colour
+/// camera's size): the frames carry what a ZR300 delivers before depth is registered to colour.
+Pan renderPan(const PinholeCamera& camera, const DepthCameraCalibration& depth);
 
 /// The pan's frame at step `step` of the back-and-forth sequence 0, 1, …, 39, 38, …, 1, 0, 1, …
 std::size_t panFrameIndex(std::size_t step, std::size_t pan_frames);

@@ -85,7 +85,11 @@ Replay prepareReplay(const std::filesystem::path& recording, const std::filesyst
   for (const RawImu& raw : script.imu) samples.push_back(toImuSample(raw));
   writer.writeImu(samples);
   writer.finish();
-  datasets::writeCalibrationYaml(replay.files / "calibration.yaml", calibration);
+  // The simulator renders depth in the colour camera's pixels: the scripted ZR300's depth camera is the
+  // colour camera itself (an identity registration, which preprocessing skips).
+  RigCalibration rig = calibration;
+  rig.depth_camera = DepthCameraCalibration{calibration.camera, SE3d()};
+  datasets::writeCalibrationYaml(replay.files / "calibration.yaml", rig);
   return replay;
 }
 

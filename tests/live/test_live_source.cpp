@@ -60,6 +60,7 @@ RigCalibration calibrationFor(const CameraScript& script) {
   RigCalibration calibration;
   calibration.camera =
       PinholeCamera::create(script.preset.width_px, script.preset.height_px, 270.0, 270.0, 159.5, 119.5);
+  calibration.depth_camera = DepthCameraCalibration{calibration.camera, SE3d()};
   return calibration;
 }
 
@@ -251,6 +252,31 @@ TEST(LiveSource, ACalibrationForAnotherImageSizeIsRefused) {
     FAIL() << "accepted a 640x480 calibration for a 320x240 stream";
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find("640x480"), std::string::npos) << error.what();
+  }
+}
+
+// Without the depth camera's calibration the live source cannot register depth to colour; it refuses to start
+// rather than pair every colour pixel with the depth of a point beside it.
+TEST(LiveSource, ACalibrationWithoutTheDepthCameraIsRefused) {
+  CameraScript script = proceduralScript(1.0);
+  zr300::Zr300Options options;
+  options.preset = script.preset;
+  RigCalibration calibration = calibrationFor(script);
+  calibration.depth_camera.reset();
+  try {
+    zr300::Zr300Source source(std::make_unique<ScriptedCamera>(std::move(script)), {}, calibration, options);
+    FAIL() << "accepted a calibration without cam1";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("cam1"), std::string::npos) << error.what();
+  }
+  script = proceduralScript(1.0);
+  calibration = calibrationFor(script);
+  calibration.depth_camera->camera = PinholeCamera::create(640, 480, 500, 500, 319.5, 239.5);
+  try {
+    zr300::Zr300Source source(std::make_unique<ScriptedCamera>(std::move(script)), {}, calibration, options);
+    FAIL() << "accepted a 640x480 depth camera for a 320x240 stream";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("depth camera (cam1) is for 640x480"), std::string::npos) << error.what();
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <initializer_list>
 #include <set>
@@ -24,8 +25,17 @@ namespace {
 constexpr double kRotationTolerance = 1e-6;
 
 constexpr std::initializer_list<const char*> kCameraKeys = {
-    "T_cam_imu", "cam_overlaps", "camera_model", "distortion_coeffs", "distortion_model",
-    "intrinsics", "resolution",  "rostopic",     "timeshift_cam_imu"};
+    "T_cam_imu",  "cam_overlaps", "camera_model", "distortion_coeffs", "distortion_model",
+    "intrinsics", "resolution",   "rostopic",     "timeshift_cam_imu"};
+/// cam1 (the depth camera) has Kalibr's chain transform too.
+constexpr std::initializer_list<const char*> kDepthCameraKeys = {
+    "T_cam_imu",        "T_cn_cnm1",  "cam_overlaps", "camera_model", "distortion_coeffs",
+    "distortion_model", "intrinsics", "resolution",   "rostopic",     "timeshift_cam_imu"};
+// cam1's own T_cam_imu, where given, must agree with cam0's composed with T_cn_cnm1 (Kalibr writes all
+// three from one solution, so they agree to rounding): 1 mm and 1 mrad catch a chain that belongs to
+// another calibration or a hand-edited matrix, far above the rounding.
+constexpr double kChainTranslationTolerance_m = 1e-3;
+constexpr double kChainRotationTolerance_rad = 1e-3;
 constexpr std::initializer_list<const char*> kImuKeys = {
     "accelerometer_noise_density", "accelerometer_random_walk", "gyroscope_noise_density", "gyroscope_random_walk",
     "update_rate", "rostopic", "model", "T_i_b", "time_offset",
@@ -70,8 +80,8 @@ void checkKeys(const Document& doc, const YAML::Node& map, std::initializer_list
   for (const auto& entry : map) {
     const std::string key = entry.first.Scalar();
     if (std::none_of(allowed.begin(), allowed.end(), [&](const char* k) { return key == k; })) {
-      throw Error(at(doc, entry.first) + "unknown key '" + key + "' in " + context + " (expected one of: " +
-                  joinKeys(allowed) + ")");
+      throw Error(at(doc, entry.first) + "unknown key '" + key + "' in " + context +
+                  " (expected one of: " + joinKeys(allowed) + ")");
     }
     if (!seen.insert(key).second) throw Error(at(doc, entry.first) + "key '" + key + "' appears twice in " + context);
   }
@@ -86,7 +96,8 @@ YAML::Node require(const Document& doc, const YAML::Node& map, const char* key) 
 double toDouble(const Document& doc, const YAML::Node& node, const std::string& key) {
   double value = 0.0;
   if (!node.IsScalar() || !YAML::convert<double>::decode(node, value) || !std::isfinite(value)) {
-    throw Error(at(doc, node) + "'" + key + "' is not a finite number: '" + (node.IsScalar() ? node.Scalar() : "?") + "'");
+    throw Error(at(doc, node) + "'" + key + "' is not a finite number: '" + (node.IsScalar() ? node.Scalar() : "?") +
+                "'");
   }
   return value;
 }
@@ -107,7 +118,8 @@ Eigen::Vector3d toVector3(const Document& doc, const YAML::Node& node, const std
 }
 
 Eigen::Matrix4d toMatrix4(const Document& doc, const YAML::Node& node, const std::string& key) {
-  if (!node.IsSequence() || node.size() != 4) throw Error(at(doc, node) + "'" + key + "' must be a 4x4 matrix (4 rows)");
+  if (!node.IsSequence() || node.size() != 4)
+    throw Error(at(doc, node) + "'" + key + "' must be a 4x4 matrix (4 rows)");
   Eigen::Matrix4d m;
   for (int r = 0; r < 4; ++r) {
     const std::vector<double> row = toDoubles(doc, node[r], key + " row " + std::to_string(r + 1), 4);
@@ -130,9 +142,10 @@ SE3d toRigid(const Document& doc, const YAML::Node& node, const std::string& key
   return SE3d(Eigen::Quaterniond(R), m.topRightCorner<3, 1>());
 }
 
-void readCamera(const Document& doc, const YAML::Node& cam, RigCalibration& calibration) {
-  if (!cam.IsMap()) throw Error(at(doc, cam) + "'cam0' must be a mapping");
-  checkKeys(doc, cam, kCameraKeys, "cam0");
+PinholeCamera readPinhole(const Document& doc, const YAML::Node& cam, const char* name,
+                          std::initializer_list<const char*> keys) {
+  if (!cam.IsMap()) throw Error(at(doc, cam) + "'" + name + "' must be a mapping");
+  checkKeys(doc, cam, keys, name);
   const YAML::Node model = require(doc, cam, "camera_model");
   if (model.Scalar() != "pinhole") {
     throw Error(at(doc, model) + "camera_model '" + model.Scalar() + "' is not supported (only 'pinhole')");
@@ -157,11 +170,15 @@ void readCamera(const Document& doc, const YAML::Node& cam, RigCalibration& cali
     }
   }
   try {
-    calibration.camera = PinholeCamera::create(static_cast<int>(resolution[0]), static_cast<int>(resolution[1]),
-                                               intrinsics[0], intrinsics[1], intrinsics[2], intrinsics[3]);
+    return PinholeCamera::create(static_cast<int>(resolution[0]), static_cast<int>(resolution[1]), intrinsics[0],
+                                 intrinsics[1], intrinsics[2], intrinsics[3]);
   } catch (const std::invalid_argument& e) {
     throw Error(at(doc, intrinsics_node) + "invalid 'intrinsics': " + e.what());
   }
+}
+
+void readCamera(const Document& doc, const YAML::Node& cam, RigCalibration& calibration) {
+  calibration.camera = readPinhole(doc, cam, "cam0", kCameraKeys);
   // Kalibr's T_cam_imu is T_C_S; we keep camera → IMU.
   calibration.T_S_C = toRigid(doc, require(doc, cam, "T_cam_imu"), "T_cam_imu").inverse();
   if (const YAML::Node shift = cam["timeshift_cam_imu"]) {
@@ -169,6 +186,28 @@ void readCamera(const Document& doc, const YAML::Node& cam, RigCalibration& cali
     if (std::abs(shift_s) > 1e6) throw Error(at(doc, shift) + "'timeshift_cam_imu' is out of range: " + shift.Scalar());
     calibration.time_shift_cam_imu_ns = secondsToNs(shift_s);
   }
+}
+
+/// cam1, the depth camera. Kalibr's T_cn_cnm1 maps cam0 points into cam1: p_D = T_cn_cnm1 · p_C, i.e. T_D_C.
+void readDepthCamera(const Document& doc, const YAML::Node& cam, RigCalibration& calibration) {
+  DepthCameraCalibration depth;
+  depth.camera = readPinhole(doc, cam, "cam1", kDepthCameraKeys);
+  const SE3d T_D_C = toRigid(doc, require(doc, cam, "T_cn_cnm1"), "T_cn_cnm1");
+  depth.T_C_D = T_D_C.inverse();
+  if (const YAML::Node node = cam["T_cam_imu"]) {
+    const SE3d T_D_S = toRigid(doc, node, "T_cam_imu");
+    const SE3d chained = T_D_C * calibration.T_S_C.inverse();
+    const Eigen::Matrix<double, 6, 1> mismatch = (chained.inverse() * T_D_S).log();
+    if (mismatch.head<3>().norm() > kChainTranslationTolerance_m ||
+        mismatch.tail<3>().norm() > kChainRotationTolerance_rad) {
+      char text[160];
+      std::snprintf(text, sizeof(text),
+                    "cam1 'T_cam_imu' disagrees with cam0's 'T_cam_imu' and 'T_cn_cnm1' by %.1f mm and %.2f mrad",
+                    mismatch.head<3>().norm() * 1e3, mismatch.tail<3>().norm() * 1e3);
+      throw Error(at(doc, node) + text);
+    }
+  }
+  calibration.depth_camera = depth;
 }
 
 void readImu(const Document& doc, const YAML::Node& imu, const std::string& context, RigCalibration& calibration) {
@@ -215,8 +254,9 @@ void readImu(const Document& doc, const YAML::Node& imu, const std::string& cont
 RigCalibration readKalibr(const std::filesystem::path& camchain_imucam_yaml, const std::filesystem::path& imu_yaml) {
   RigCalibration calibration;
   const Document camchain = load(camchain_imucam_yaml);
-  checkKeys(camchain, camchain.root, {"cam0"}, "the camera chain (one camera, cam0)");
+  checkKeys(camchain, camchain.root, {"cam0", "cam1"}, "the camera chain (cam0 colour, cam1 depth)");
   readCamera(camchain, require(camchain, camchain.root, "cam0"), calibration);
+  if (const YAML::Node cam1 = camchain.root["cam1"]) readDepthCamera(camchain, cam1, calibration);
 
   const Document imu = load(imu_yaml);
   if (imu.root["imu0"]) {
@@ -231,9 +271,11 @@ RigCalibration readKalibr(const std::filesystem::path& camchain_imucam_yaml, con
 RigCalibration readCalibrationYaml(const std::filesystem::path& path) {
   RigCalibration calibration;
   const Document doc = load(path);
-  checkKeys(doc, doc.root, {"cam0", "imu0", "depth_scale_m", "inverse_depth_bias_per_m", "gravity_world", "static_accel_bias"},
+  checkKeys(doc, doc.root,
+            {"cam0", "cam1", "imu0", "depth_scale_m", "inverse_depth_bias_per_m", "gravity_world", "static_accel_bias"},
             "the top level");
   readCamera(doc, require(doc, doc.root, "cam0"), calibration);
+  if (const YAML::Node cam1 = doc.root["cam1"]) readDepthCamera(doc, cam1, calibration);
   readImu(doc, require(doc, doc.root, "imu0"), "imu0", calibration);
   if (const YAML::Node scale = doc.root["depth_scale_m"]) {
     calibration.depth_scale_m = toDouble(doc, scale, "depth_scale_m");
@@ -249,7 +291,8 @@ RigCalibration readCalibrationYaml(const std::filesystem::path& path) {
   }
   if (const YAML::Node gravity = doc.root["gravity_world"]) {
     calibration.g_W = toVector3(doc, gravity, "gravity_world");
-    if (calibration.g_W.norm() < 1.0) throw Error(at(doc, gravity) + "'gravity_world' must have a magnitude near 9.81 m/s²");
+    if (calibration.g_W.norm() < 1.0)
+      throw Error(at(doc, gravity) + "'gravity_world' must have a magnitude near 9.81 m/s²");
     calibration.imu.gravity_mps2 = calibration.g_W.norm();
   }
   if (const YAML::Node bias = doc.root["static_accel_bias"]) {
@@ -264,26 +307,39 @@ void writeCalibrationYaml(const std::filesystem::path& path, const RigCalibratio
     for (const double v : values) out << v;
     out << YAML::EndSeq;
   };
-  const PinholeCamera& camera = calibration.camera;
+  const auto matrix = [&](YAML::Emitter& out, const char* key, const char* comment, const SE3d& T) {
+    const Eigen::Matrix4d m = T.matrix();
+    out << YAML::Key << key << YAML::Comment(comment) << YAML::Value << YAML::BeginSeq;
+    for (int r = 0; r < 4; ++r) vector(out, {m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+    out << YAML::EndSeq;
+  };
+  const auto pinhole = [&](YAML::Emitter& out, const PinholeCamera& camera) {
+    out << YAML::Key << "camera_model" << YAML::Value << "pinhole";
+    out << YAML::Key << "distortion_model" << YAML::Value << "none";
+    out << YAML::Key << "distortion_coeffs" << YAML::Value << YAML::Flow << YAML::BeginSeq << YAML::EndSeq;
+    out << YAML::Key << "intrinsics" << YAML::Value;
+    vector(out, {camera.fx, camera.fy, camera.cx, camera.cy});
+    out << YAML::Key << "resolution" << YAML::Value << YAML::Flow << YAML::BeginSeq << camera.width << camera.height
+        << YAML::EndSeq;
+    out << YAML::Key << "timeshift_cam_imu" << YAML::Value << nsToSeconds(calibration.time_shift_cam_imu_ns);
+  };
   const ImuNoiseParams& imu = calibration.imu;
-  const Eigen::Matrix4d T_C_S = calibration.T_S_C.inverse().matrix();
+  const SE3d T_C_S = calibration.T_S_C.inverse();
 
   YAML::Emitter out;
   out.SetDoublePrecision(17);
   out << YAML::BeginMap << YAML::Key << "cam0" << YAML::Value << YAML::BeginMap;
-  out << YAML::Key << "T_cam_imu" << YAML::Comment("Kalibr convention: T_C_S, p_C = T_cam_imu * p_S") << YAML::Value
-      << YAML::BeginSeq;
-  for (int r = 0; r < 4; ++r) vector(out, {T_C_S(r, 0), T_C_S(r, 1), T_C_S(r, 2), T_C_S(r, 3)});
-  out << YAML::EndSeq;
-  out << YAML::Key << "camera_model" << YAML::Value << "pinhole";
-  out << YAML::Key << "distortion_model" << YAML::Value << "none";
-  out << YAML::Key << "distortion_coeffs" << YAML::Value << YAML::Flow << YAML::BeginSeq << YAML::EndSeq;
-  out << YAML::Key << "intrinsics" << YAML::Value;
-  vector(out, {camera.fx, camera.fy, camera.cx, camera.cy});
-  out << YAML::Key << "resolution" << YAML::Value << YAML::Flow << YAML::BeginSeq << camera.width << camera.height
-      << YAML::EndSeq;
-  out << YAML::Key << "timeshift_cam_imu" << YAML::Value << nsToSeconds(calibration.time_shift_cam_imu_ns);
+  matrix(out, "T_cam_imu", "Kalibr convention: T_C_S, p_C = T_cam_imu * p_S", T_C_S);
+  pinhole(out, calibration.camera);
   out << YAML::EndMap;
+  if (calibration.depth_camera) {
+    const SE3d T_D_C = calibration.depth_camera->T_C_D.inverse();
+    out << YAML::Key << "cam1" << YAML::Value << YAML::BeginMap;
+    matrix(out, "T_cam_imu", "the depth camera's T_D_S", T_D_C * T_C_S);
+    matrix(out, "T_cn_cnm1", "Kalibr convention: T_D_C, p_D = T_cn_cnm1 * p_C", T_D_C);
+    pinhole(out, calibration.depth_camera->camera);
+    out << YAML::EndMap;
+  }
 
   out << YAML::Key << "imu0" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "accelerometer_noise_density" << YAML::Value << imu.accel_noise_density;

@@ -23,7 +23,8 @@ std::unique_ptr<Zr300Source> openZr300(const discovery::Zr300SourceSpec& spec,
   if (calibration_yaml.empty()) {
     throw Error(
         "the zr300 source needs the rig calibration: --calibration FILE (calibration.yaml with Kalibr's cam0 "
-        "and imu0 keys); reading the factory calibration from the adapter EEPROM is not implemented");
+        "(colour), cam1 (depth) and imu0 keys); reading the factory calibration from the adapter EEPROM is not "
+        "implemented");
   }
   const RigCalibration calibration = datasets::readCalibrationYaml(calibration_yaml);
   const std::optional<StreamPreset> preset = presetForSize(calibration.camera.width, calibration.camera.height);

@@ -64,6 +64,20 @@ Zr300Source::Zr300Source(std::unique_ptr<Zr300Backend> backend, const discovery:
                 std::to_string(calibration_.camera.height) + " images, but the camera is asked to stream " +
                 std::to_string(options_.preset.width_px) + "x" + std::to_string(options_.preset.height_px));
   }
+  // Depth comes from the IR stereo pair, centimetres from the colour imager: without its intrinsics and
+  // T_C_D every colour pixel would be paired with the depth of a point beside it.
+  if (!calibration_.depth_camera) {
+    throw Error(
+        "the calibration has no depth camera (cam1 with T_cn_cnm1): the ZR300 measures depth with its IR "
+        "pair, not with the colour camera, and its depth must be registered to colour");
+  }
+  if (calibration_.depth_camera->camera.width != options_.preset.width_px ||
+      calibration_.depth_camera->camera.height != options_.preset.height_px) {
+    throw Error(
+        "the calibration's depth camera (cam1) is for " + std::to_string(calibration_.depth_camera->camera.width) +
+        "x" + std::to_string(calibration_.depth_camera->camera.height) + " images, but the camera is asked to stream " +
+        std::to_string(options_.preset.width_px) + "x" + std::to_string(options_.preset.height_px));
+  }
   discovery::CameraCheckOptions check;
   check.require_adapter = options_.imu;
   camera_ = backend_->findCamera(spec_, check);

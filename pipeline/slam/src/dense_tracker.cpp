@@ -47,6 +47,11 @@ DenseTracker::DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, co
   preprocess_options.levels = options_.levels;
   preprocess_options.metric.depth_scale_m = static_cast<float>(calibration.depth_scale_m);
   preprocess_options.metric.inverse_depth_bias_per_m = static_cast<float>(calibration.inverse_depth_bias_per_m);
+  if (calibration.depth_camera) {  // depth from its own camera: registered to colour on the GPU first
+    preprocess_options.registration =
+        preprocess::DepthRegistration{calibration.depth_camera->camera, calibration.camera,
+                                      calibration.depth_camera->T_C_D, calibration.depth_scale_m};
+  }
   stage_ = std::make_unique<preprocess::PreprocessStage>(context, plan, preprocess_options);
   for (int l = 0; l < options_.levels; ++l) {
     const preprocess::LevelBuffers& current = stage_->level(l);

@@ -61,6 +61,14 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
       gravity_mps2_(calibration.imu.gravity_mps2) {
   options.validate();
   const PinholeCamera& camera = calibration.camera;
+  if (calibration.depth_camera && (calibration.depth_camera->camera.width != camera.width ||
+                                   calibration.depth_camera->camera.height != camera.height)) {
+    // Relocalisation's ferns sample the raw depth and colour images on one grid (loop/fern_image.hpp).
+    throw Error("calibration: the depth camera's images (" + std::to_string(calibration.depth_camera->camera.width) +
+                "x" + std::to_string(calibration.depth_camera->camera.height) +
+                ") must have the colour camera's size (" + std::to_string(camera.width) + "x" +
+                std::to_string(camera.height) + ")");
+  }
   tracker_ = std::make_unique<DenseTracker>(context, plan_, calibration, options.tracker);
   map_ = std::make_unique<map::MapBuffers>(plan_, options.map, camera);
   // One depth-noise model for tracking and fusion: the ICP's.

@@ -99,6 +99,10 @@ TEST(Kalibr, CalibrationYamlRoundTrips) {
   original.imu.rate_hz = 250.0;
   original.imu.gyro_saturation_rad_s = 8.7;
   original.g_W = Eigen::Vector3d(0.0, 0.0, -9.80665);
+  original.depth_camera = DepthCameraCalibration{
+      PinholeCamera::create(320, 240, 290.5, 291.25, 160.5, 118.75),
+      SE3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.01, Eigen::Vector3d(0.3, 1.0, -0.2).normalized())),
+           Eigen::Vector3d(0.0251, -0.0003, 0.0012))};
   writeCalibrationYaml(tmp / "calibration.yaml", original);
   const RigCalibration read = readCalibrationYaml(tmp / "calibration.yaml");
 
@@ -124,16 +128,22 @@ TEST(Kalibr, CalibrationYamlRoundTrips) {
   EXPECT_EQ(read.imu.gyro_bias_prior, original.imu.gyro_bias_prior);
   EXPECT_EQ(read.imu.accel_bias_prior, original.imu.accel_bias_prior);
   EXPECT_EQ(read.imu.static_accel_bias_mps2, original.imu.static_accel_bias_mps2);
+  ASSERT_TRUE(read.depth_camera.has_value());
+  EXPECT_EQ(read.depth_camera->camera.fx, 290.5);
+  EXPECT_EQ(read.depth_camera->camera.cy, 118.75);
+  EXPECT_MATRIX_NEAR(read.depth_camera->T_C_D.matrix(), original.depth_camera->T_C_D.matrix(), 1e-15);
 
   const std::string text = [&] {
     std::ifstream in(tmp / "calibration.yaml");
     return std::string(std::istreambuf_iterator<char>(in), {});
   }();
-  // Its cam0 block alone is a valid Kalibr camchain with the same extrinsic.
+  // Its cam0 and cam1 blocks alone are a valid Kalibr camchain with the same extrinsics.
   writeText(tmp / "camchain-imucam.yaml", text.substr(0, text.find("imu0:")));
   writeText(tmp / "imu.yaml", kImuFlat);
   const RigCalibration as_kalibr = readKalibr(tmp / "camchain-imucam.yaml", tmp / "imu.yaml");
   EXPECT_MATRIX_NEAR(as_kalibr.T_S_C.matrix(), original.T_S_C.matrix(), 1e-15);
+  ASSERT_TRUE(as_kalibr.depth_camera.has_value());
+  EXPECT_MATRIX_NEAR(as_kalibr.depth_camera->T_C_D.matrix(), original.depth_camera->T_C_D.matrix(), 1e-15);
 }
 
 TEST(Kalibr, UnknownTopLevelKeyIsAnError) {
@@ -141,7 +151,7 @@ TEST(Kalibr, UnknownTopLevelKeyIsAnError) {
   writeCalibrationYaml(tmp / "calibration.yaml", RigCalibration{});
   std::ofstream(tmp / "calibration.yaml", std::ios::app) << "depth_scale: 0.001\n";
   expectError([&] { readCalibrationYaml(tmp / "calibration.yaml"); },
-              "unknown key 'depth_scale' in the top level (expected one of: cam0, imu0, depth_scale_m");
+              "unknown key 'depth_scale' in the top level (expected one of: cam0, cam1, imu0, depth_scale_m");
 }
 
 TEST(Kalibr, InverseDepthBiasDefaultsToZeroAndAnImplausibleOneIsAnError) {
@@ -174,11 +184,52 @@ TEST(Kalibr, MisspeltNestedKeyIsAnErrorWithItsLine) {
               "imu.yaml line 9: unknown key 'gyroscope_randomwalk' in the IMU file");
 }
 
-TEST(Kalibr, SecondCameraIsAnError) {
+// cam1 is the depth camera (ZR300: the IR pair). Kalibr's T_cn_cnm1 maps cam0 points into cam1 (T_D_C); its
+// T_cam_imu must agree with cam0's through that chain.
+constexpr const char* kDepthCamera = R"(cam1:
+  T_cam_imu:
+  - [0.0, -1.0, 0.0, 0.075]
+  - [1.0, 0.0, 0.0, 0.2]
+  - [0.0, 0.0, 1.0, 0.3]
+  - [0.0, 0.0, 0.0, 1.0]
+  T_cn_cnm1:
+  - [1.0, 0.0, 0.0, -0.025]
+  - [0.0, 1.0, 0.0, 0.0]
+  - [0.0, 0.0, 1.0, 0.0]
+  - [0.0, 0.0, 0.0, 1.0]
+  camera_model: pinhole
+  distortion_coeffs: [0.0, 0.0, 0.0, 0.0]
+  distortion_model: radtan
+  intrinsics: [580.0, 581.0, 318.0, 242.0]
+  resolution: [640, 480]
+  rostopic: /camera/depth/image_raw
+)";
+
+TEST(Kalibr, SecondCameraIsTheDepthCamera) {
   TempDir tmp;
-  writeText(tmp / "camchain-imucam.yaml", std::string(kCamchain) + "cam1:\n  camera_model: pinhole\n");
+  writeText(tmp / "camchain-imucam.yaml", std::string(kCamchain) + kDepthCamera);
   writeText(tmp / "imu.yaml", kImuFlat);
-  expectError([&] { readKalibr(tmp / "camchain-imucam.yaml", tmp / "imu.yaml"); }, "unknown key 'cam1'");
+  const RigCalibration calibration = readKalibr(tmp / "camchain-imucam.yaml", tmp / "imu.yaml");
+  ASSERT_TRUE(calibration.depth_camera.has_value());
+  EXPECT_EQ(calibration.depth_camera->camera.fx, 580.0);
+  EXPECT_EQ(calibration.depth_camera->camera.cy, 242.0);
+  EXPECT_EQ(calibration.depth_camera->camera.width, 640);
+  // p_C = T_C_D · p_D: the depth camera's origin sits 25 mm along +x of the colour camera.
+  EXPECT_MATRIX_NEAR(calibration.depth_camera->T_C_D.translation(), Eigen::Vector3d(0.025, 0.0, 0.0), 1e-15);
+
+  std::string inconsistent = kDepthCamera;
+  inconsistent.replace(inconsistent.find("0.075"), 5, "0.085");  // cam1's T_cam_imu off by 10 mm
+  writeText(tmp / "camchain-imucam.yaml", std::string(kCamchain) + inconsistent);
+  expectError([&] { readKalibr(tmp / "camchain-imucam.yaml", tmp / "imu.yaml"); },
+              "line 17: cam1 'T_cam_imu' disagrees with cam0's 'T_cam_imu' and 'T_cn_cnm1' by 10.0 mm and 0.00 mrad");
+
+  std::string unchained = kDepthCamera;
+  unchained.erase(unchained.find("  T_cn_cnm1:"), unchained.find("  camera_model") - unchained.find("  T_cn_cnm1:"));
+  writeText(tmp / "camchain-imucam.yaml", std::string(kCamchain) + unchained);
+  expectError([&] { readKalibr(tmp / "camchain-imucam.yaml", tmp / "imu.yaml"); }, "missing key 'T_cn_cnm1'");
+
+  writeText(tmp / "camchain-imucam.yaml", std::string(kCamchain) + kDepthCamera + "cam2:\n  camera_model: pinhole\n");
+  expectError([&] { readKalibr(tmp / "camchain-imucam.yaml", tmp / "imu.yaml"); }, "unknown key 'cam2'");
 }
 
 class KalibrCorruption : public ::testing::Test {
@@ -196,7 +247,8 @@ class KalibrCorruption : public ::testing::Test {
 };
 
 TEST_F(KalibrCorruption, MissingIntrinsics) {
-  expectCamchainError("  intrinsics: [617.5, 618.25, 321.75, 238.5]\n", "", "camchain-imucam.yaml line 2: missing key 'intrinsics'");
+  expectCamchainError("  intrinsics: [617.5, 618.25, 321.75, 238.5]\n", "",
+                      "camchain-imucam.yaml line 2: missing key 'intrinsics'");
 }
 
 TEST_F(KalibrCorruption, ShortIntrinsics) {
@@ -222,7 +274,8 @@ TEST_F(KalibrCorruption, NonRotationExtrinsic) {
 }
 
 TEST_F(KalibrCorruption, YamlSyntaxError) {
-  expectCamchainError("resolution: [640, 480]", "resolution: [640, 480", "camchain-imucam.yaml line 13: YAML syntax error");
+  expectCamchainError("resolution: [640, 480]", "resolution: [640, 480",
+                      "camchain-imucam.yaml line 13: YAML syntax error");
 }
 
 TEST(Kalibr, InvalidNoiseIsAnError) {

@@ -15,11 +15,15 @@
 //     distortion_model: radtan / none       # coefficients must be zero: images are rectified
 //     distortion_coeffs: [0, 0, 0, 0]
 //     timeshift_cam_imu: 0.0                # [s], t_imu = t_cam + shift
+//   cam1:                                   # optional: the depth camera, when depth is not in cam0's pixels
+//     T_cn_cnm1: [[...]]                    # T_D_C, p_D = T_cn_cnm1 · p_C (Kalibr's chain: cam0 → cam1)
+//     T_cam_imu: [[...]]                    # optional, T_D_S; must agree with cam0's and T_cn_cnm1
+//     camera_model, intrinsics, resolution, distortion_*: as cam0 (the depth stream is rectified)
 // imu.yaml (Kalibr input format, or its output nested under `imu0:`):
 //   accelerometer_noise_density [m/s²/√Hz], accelerometer_random_walk [m/s³/√Hz],
 //   gyroscope_noise_density [rad/s/√Hz], gyroscope_random_walk [rad/s²/√Hz], update_rate [Hz]
 //
-// calibration.yaml (our dataset directories) = `cam0:` as above + `imu0:` with the imu.yaml keys and
+// calibration.yaml (our dataset directories) = `cam0:` (and `cam1:`) as above + `imu0:` with the imu.yaml keys and
 // our optional gyroscope_saturation [rad/s], accelerometer_saturation [m/s²], gyroscope_bias_prior
 // [rad/s], accelerometer_bias_prior [m/s²], + top-level depth_scale_m [m per depth unit],
 // inverse_depth_bias_per_m [1/m] (RigCalibration: the sensor's 1/z reads this much too high),

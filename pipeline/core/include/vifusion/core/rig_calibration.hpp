@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 
 #include "vifusion/core/imu_noise.hpp"
 #include "vifusion/core/pinhole_camera.hpp"
@@ -15,8 +16,20 @@ namespace vifusion {
 /// beyond any working sensor, so a larger value is a typo (a bias in 1/mm, a depth in place of 1/z).
 inline constexpr double kMaxInverseDepthBias_per_m = 0.1;
 
+/// A depth camera apart from the colour camera: the ZR300 measures depth with its IR stereo pair, a few
+/// centimetres from the colour imager, so its depth pixels and colour pixels with the same (u, v) see
+/// different points until preprocessing registers depth to colour (preprocess/depth_registration.hpp).
+struct DepthCameraCalibration {
+  PinholeCamera camera;  ///< intrinsics and size of the raw depth images (rectified by the device)
+  SE3d T_C_D;            ///< depth → colour camera: p_C = T_C_D · p_D [m]
+};
+
 struct RigCalibration {
-  PinholeCamera camera;
+  PinholeCamera camera;  ///< the colour camera C; the pipeline works in its pixels
+  /// Set when depth images come from their own camera (live ZR300, its recordings); unset when they are
+  /// already in the colour camera's pixels (datasets, the simulator). Frames then carry depth at
+  /// depth_camera->camera's size.
+  std::optional<DepthCameraCalibration> depth_camera;
   double depth_scale_m = 1.0 / 5000.0;  ///< metres per raw depth unit in the data
   /// Systematic depth error as an offset of inverse depth: the sensor reports 1/z_raw = 1/z + b [1/m].
   /// Structured-light and stereo sensors measure disparity ∝ 1/z, so a disparity offset is their

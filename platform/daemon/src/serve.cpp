@@ -131,7 +131,7 @@ int serve(const config::DaemonConfig& config) {
   worker_options.out_dir = config.out;
   worker_options.max_frames = static_cast<std::uint64_t>(config.max_frames);
   worker_options.map_period_ns = secondsToNs(config.map_publish_period_s);
-  worker_options.expected_frames = source->frameCount();
+  worker_options.expected_frames = source->live() ? kLiveTrajectoryReserveFrames : source->frameCount();
   worker_options.imu = inertial ? imu_feed : nullptr;
   SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
 

@@ -31,6 +31,11 @@ struct SlamWorkerOptions {
   ImuFeed* imu = nullptr;
 };
 
+/// Trajectory capacity reserved for a live source, which cannot say how many frames will come: one hour at
+/// 30 Hz (64 B a pose, ≈ 310 B a state in inertial modes; reserved address space, resident only once used).
+/// A longer run grows the vectors by doubling: one allocation per doubling, not per frame.
+inline constexpr std::size_t kLiveTrajectoryReserveFrames = 108'000;
+
 /// At most one log line about refused IMU samples per this period [ns]; the count is always exact.
 inline constexpr std::int64_t kImuIssueLogPeriodNs = 5'000'000'000;
 

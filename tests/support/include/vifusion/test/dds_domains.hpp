@@ -16,6 +16,8 @@ inline constexpr std::uint32_t kSharedDomainLast = 228;
 /// tests/service/test_daemon_allocations.cpp, rgbd and rgbdi (Cyclone's port mapping allows up to 232).
 inline constexpr std::uint32_t kDaemonAllocationsRgbdDomain = 229;
 inline constexpr std::uint32_t kDaemonAllocationsRgbdiDomain = 230;
+/// tests/live/test_live_daemon_allocations.cpp.
+inline constexpr std::uint32_t kLiveDaemonAllocationsDomain = 231;
 
 /// A random domain of the shared range.
 template <typename Generator>

@@ -107,12 +107,21 @@ TEST(LiveSource, ThirtySecondsComeOutAsScriptedFramesImuAndTimes) {
   Image<Rgb8> script_rgb(width, height), expected(width, height);
   RgbdFrame frame;
   ImuCollector collected;
-  std::int64_t worst_time_error_ns = 0;
-  int depth_mismatches = 0, rgb_mismatches = 0;
+  std::int64_t worst_time_error_ns = 0, worst_kernel_error_ns = 0;
+  int depth_mismatches = 0, rgb_mismatches = 0, timing_mismatches = 0;
   for (std::size_t k = 0; k < frame_t.size(); ++k) {
     ASSERT_TRUE(source.nextFrame(frame)) << "frame " << k;
     ASSERT_EQ(frame.index, static_cast<std::int64_t>(k));
     worst_time_error_ns = std::max(worst_time_error_ns, std::abs(frame.t_ns - frame_t[k]));
+    // The device's view of the frame's time goes with it (what recordings keep): its DS4 counter, the event
+    // that stamped it on both clocks, and the kernel's own time of the buffer.
+    const FrameTiming& timing = frame.timing;
+    timing_mismatches += timing.device_frame_number == kFirstFrameCounter + static_cast<std::uint32_t>(k) &&
+                                 timing.stamped_by_device_event && timing.device_event_ns == frame.t_ns &&
+                                 timing.device_event_clock_ns > 0
+                             ? 0
+                             : 1;
+    worst_kernel_error_ns = std::max(worst_kernel_error_ns, std::abs(timing.kernel_mid_exposure_ns - frame_t[k]));
     collected.add(source.imuFeed()->samplesThrough(frame.t_ns));
     const int ki = static_cast<int>(k);
     for (int y = 0; y < height; ++y) {
@@ -130,6 +139,8 @@ TEST(LiveSource, ThirtySecondsComeOutAsScriptedFramesImuAndTimes) {
     }
   }
   EXPECT_LE(worst_time_error_ns, 1000) << "frame times within 1 µs of the motion module's events";
+  EXPECT_EQ(timing_mismatches, 0) << "frames whose FrameTiming does not say how they were stamped";
+  EXPECT_LT(worst_kernel_error_ns, 10 * kNsPerMillisecond) << "kernel mid-exposure times";
   EXPECT_EQ(depth_mismatches, 0);
   EXPECT_EQ(rgb_mismatches, 0);
 

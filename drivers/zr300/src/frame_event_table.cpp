@@ -12,10 +12,10 @@ void FrameEventTable::add(const usb_imu::DepthFrameEvent& event) {
   if (count_ < kCapacity) ++count_;
 }
 
-std::optional<std::int64_t> FrameEventTable::find(std::uint32_t frame_counter, std::int64_t kernel_ns,
-                                                  std::int64_t tolerance_ns) const {
+std::optional<usb_imu::DepthFrameEvent> FrameEventTable::find(std::uint32_t frame_counter, std::int64_t kernel_ns,
+                                                              std::int64_t tolerance_ns) const {
   const auto wanted = static_cast<std::uint16_t>(frame_counter % motion::kCounterModulus);
-  std::optional<std::int64_t> best;
+  std::optional<usb_imu::DepthFrameEvent> best;
   std::int64_t best_distance = tolerance_ns + 1;
   for (std::size_t i = 0; i < count_; ++i) {
     const usb_imu::DepthFrameEvent& event = events_[i];
@@ -23,7 +23,7 @@ std::optional<std::int64_t> FrameEventTable::find(std::uint32_t frame_counter, s
     const std::int64_t distance = std::llabs(event.t_ns - kernel_ns);
     if (distance < best_distance) {
       best_distance = distance;
-      best = event.t_ns;
+      best = event;
     }
   }
   return best;

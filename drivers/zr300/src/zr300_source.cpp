@@ -241,6 +241,7 @@ Zr300Source::Step Zr300Source::assembleFrame() {
 
   Step step = Step::kContinue;
   if (!takeColour(counter, step)) return step;
+  pending_.timing = FrameTiming{counter, kernel_mid_ns, 0, 0, false};
   const std::int64_t t_ns = frameTime(counter, kernel_mid_ns);
   if (next_index_ > 0 && t_ns <= last_t_ns_) {
     noteProblem("frame with DS4 counter %u at t_ns %lld is not after the previous frame at %lld: dropped", counter,
@@ -330,9 +331,12 @@ std::int64_t Zr300Source::frameTime(std::uint32_t counter, std::int64_t kernel_m
     usb_imu::DepthFrameEvent event;
     while (true) {
       while (motion_->frameEventRing().tryPop(event)) events_.add(event);
-      if (const auto t = events_.find(counter, kernel_mid_ns, options_.frame_event_tolerance_ns)) {
+      if (const auto found = events_.find(counter, kernel_mid_ns, options_.frame_event_tolerance_ns)) {
         updateStats([](Zr300Stats& s) { ++s.event_timestamps; });
-        return *t;
+        pending_.timing.device_event_ns = found->t_ns;
+        pending_.timing.device_event_clock_ns = found->device_ns;
+        pending_.timing.stamped_by_device_event = true;
+        return found->t_ns;
       }
       if (std::chrono::steady_clock::now() >= deadline || motionGone()) break;
       sleepNs(kWaitStepNs);

@@ -19,10 +19,10 @@ class FrameEventTable {
   static constexpr std::size_t kCapacity = 64;
 
   void add(const usb_imu::DepthFrameEvent& event);
-  /// The host time [ns] of the event for a frame with `frame_counter` whose kernel time is `kernel_ns`, or
-  /// nullopt when no kept event matches within `tolerance_ns`. The closest in time wins.
-  std::optional<std::int64_t> find(std::uint32_t frame_counter, std::int64_t kernel_ns,
-                                   std::int64_t tolerance_ns) const;
+  /// The event for a frame with `frame_counter` whose kernel time is `kernel_ns` (its t_ns within
+  /// `tolerance_ns` of it), or nullopt when no kept event matches. The closest in time wins.
+  std::optional<usb_imu::DepthFrameEvent> find(std::uint32_t frame_counter, std::int64_t kernel_ns,
+                                               std::int64_t tolerance_ns) const;
   void clear() { count_ = 0; }
 
  private:

@@ -6,6 +6,7 @@
 #include "vifusion/core/error.hpp"
 #include "vifusion/datasets/euroc_imu.hpp"
 #include "vifusion/datasets/ground_truth_states.hpp"
+#include "vifusion/datasets/kalibr.hpp"
 
 namespace vifusion::cli {
 namespace {
@@ -78,13 +79,17 @@ void DatasetWriter::writeFrame(int64_t t_ns, ImageView<const Rgb8> rgb, ImageVie
                q.y(), q.z(), q.w());
 }
 
-void DatasetWriter::writeImu(const std::vector<ImuSample>& samples) const {
+void DatasetWriter::writeCalibration(const RigCalibration& calibration) {
+  datasets::writeCalibrationYaml(directory_ / "calibration.yaml", calibration);
+}
+
+void DatasetWriter::writeImu(std::span<const ImuSample> samples) {
   const std::filesystem::path path = directory_ / "imu.csv";
   datasets::writeEurocImu(path.string() + ".tmp", samples);
   std::filesystem::rename(path.string() + ".tmp", path);
 }
 
-void DatasetWriter::writeGroundTruthStates(const std::vector<GroundTruthState>& states) const {
+void DatasetWriter::writeGroundTruthStates(std::span<const GroundTruthState> states) {
   const std::filesystem::path path = directory_ / "groundtruth_states.csv";
   datasets::writeGroundTruthStates(path.string() + ".tmp", states);
   std::filesystem::rename(path.string() + ".tmp", path);

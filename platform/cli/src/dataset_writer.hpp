@@ -3,35 +3,38 @@
 // by our `dataset:DIR` reader:
 //   rgb/<t>.png, depth/<t>.png (16-bit, 5000 per metre), rgb.txt, depth.txt,
 //   groundtruth.txt (T_world_camera, TUM), imu.csv (EuRoC layout), groundtruth_states.csv,
-//   calibration.yaml (written by the caller through the datasets library).
+//   calibration.yaml.
 // Files are written to "<name>.tmp" and renamed when complete, so an interrupted run never leaves
 // a truncated file under its final name.
 
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <vector>
+#include <span>
 
+#include "sequence_writer.hpp"
 #include "vifusion/core/image.hpp"
 #include "vifusion/core/se3.hpp"
 #include "vifusion/core/sensor_data.hpp"
 
 namespace vifusion::cli {
 
-class DatasetWriter {
+class DatasetWriter final : public SequenceWriter {
  public:
   /// Creates `directory` (and rgb/, depth/); refuses a directory that already holds a dataset.
   explicit DatasetWriter(const std::filesystem::path& directory);
-  ~DatasetWriter();
+  ~DatasetWriter() override;
   DatasetWriter(const DatasetWriter&) = delete;
   DatasetWriter& operator=(const DatasetWriter&) = delete;
 
   /// Writes one frame's images and index lines; T_W_C is the true camera pose at t_ns.
-  void writeFrame(int64_t t_ns, ImageView<const Rgb8> rgb, ImageView<const uint16_t> depth, const SE3d& T_W_C);
-  void writeImu(const std::vector<ImuSample>& samples) const;
-  void writeGroundTruthStates(const std::vector<GroundTruthState>& states) const;
+  void writeFrame(int64_t t_ns, ImageView<const Rgb8> rgb, ImageView<const uint16_t> depth, const SE3d& T_W_C) override;
+  /// calibration.yaml.
+  void writeCalibration(const RigCalibration& calibration) override;
+  void writeImu(std::span<const ImuSample> samples) override;
+  void writeGroundTruthStates(std::span<const GroundTruthState> states) override;
   /// Closes the index files and moves them to their final names.
-  void finish();
+  void finish() override;
 
   const std::filesystem::path& directory() const { return directory_; }
 

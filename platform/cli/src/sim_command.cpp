@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "dataset_writer.hpp"
@@ -62,6 +63,11 @@ std::vector<sim::StampedPose> cameraPath(const SimOptions& options) {
   return poses;
 }
 
+/// The writer for `--out`: a dataset directory.
+std::unique_ptr<SequenceWriter> openSequenceWriter(const std::filesystem::path& out) {
+  return std::make_unique<DatasetWriter>(out);
+}
+
 nlohmann::json residualsJson(const sim::FitResiduals& r) {
   return {{"poses", r.count},
           {"rms_position_mm", r.rms_position_mm},
@@ -115,10 +121,11 @@ int runSim(const SimOptions& options) {
   imu_options.t_end_ns = t_end_ns;
   const sim::ImuSimResult imu = sim::simulateImu(fit.spline_W_S, imu_options);
 
-  DatasetWriter writer(options.out);
+  const std::unique_ptr<SequenceWriter> output = openSequenceWriter(options.out);
+  SequenceWriter& writer = *output;
+  writer.writeCalibration(calibration);
   writer.writeImu(imu.samples);
   writer.writeGroundTruthStates(imu.states);
-  datasets::writeCalibrationYaml(std::filesystem::path(options.out) / "calibration.yaml", calibration);
 
   // Images at 30 Hz along the spline; stamps on whole microseconds so TUM text files hold them exactly.
   const int blur_samples =

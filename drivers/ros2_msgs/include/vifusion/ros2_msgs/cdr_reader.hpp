@@ -6,8 +6,8 @@
 // left, a bool that is neither 0 nor 1, or a value outside its type's range throws vifusion::Error naming
 // the message type, the field (its path from the message root, e.g. "transforms[1].header.frame_id") and
 // the byte offset counted from the start of the message (encapsulation header included), e.g.
-//   "sensor_msgs/msg/Image field data at byte 44: sequence count 4294967295 × 1 bytes runs past the end
-//    of the message (60 bytes, 12 left)".
+//   "sensor_msgs/msg/Image field data at byte 48: sequence count 4294967295 × 1 bytes runs past the end
+//    of the message (82 bytes, 30 left)".
 // Only the error path allocates (the message text).
 
 #include <array>
@@ -23,7 +23,8 @@ namespace vifusion::ros2_msgs {
 
 class CdrReader {
  public:
-  /// Checks the encapsulation header (CDR_LE; big-endian and XCDR2 encodings are refused by name).
+  /// Checks the encapsulation header: CDR_LE only; big-endian, parameter-list and XCDR2 encodings are
+  /// refused with their identifier bytes quoted.
   /// `type_name` ("sensor_msgs/msg/Imu") is quoted in every error; it must outlive the reader.
   CdrReader(std::span<const std::uint8_t> bytes, std::string_view type_name);
 
@@ -101,5 +102,13 @@ class CdrReader {
   std::array<ScopeEntry, kMaxFieldDepth> scopes_{};
   std::size_t scope_depth_ = 0;
 };
+
+/// Reads a nested message field (one with a deserialize(CdrReader&)) with its name in the reader's error
+/// paths ("header.frame_id").
+template <typename Field>
+void readNested(CdrReader& reader, std::string_view name, Field& field) {
+  CdrReader::FieldScope scope(reader, name);
+  field.deserialize(reader);
+}
 
 }  // namespace vifusion::ros2_msgs

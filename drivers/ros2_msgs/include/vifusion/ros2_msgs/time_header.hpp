@@ -52,11 +52,4 @@ struct Header {
 /// A header at t_ns [host CLOCK_MONOTONIC ns] in frame `frame_id` (a view; see the file comment).
 Header makeHeader(std::int64_t t_ns, std::string_view frame_id);
 
-/// Deserialises a nested field whose name scopes the reader's error messages ("header.frame_id").
-template <typename Field>
-void readNested(CdrReader& reader, std::string_view name, Field& field) {
-  CdrReader::FieldScope scope(reader, name);
-  field.deserialize(reader);
-}
-
 }  // namespace vifusion::ros2_msgs

@@ -1,13 +1,18 @@
-// The report as the CLI prints it: one JSON object whose keys are all there and whose values
-// parse back to the report's numbers (NaN as null).
+// The report as the CLI prints and draws it: one JSON object whose keys are all there and whose values
+// parse back to the report's numbers (NaN as null); a PNG of the offsets.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "vifusion/core/error.hpp"
 #include "vifusion/synccheck/analyse.hpp"
 #include "vifusion/synccheck/clock_model.hpp"
+#include "vifusion/test/expect_error.hpp"
 
 namespace vifusion::synccheck {
 namespace {
@@ -69,6 +74,29 @@ TEST(SynccheckJson, UnmeasuredValuesAreNull) {
   EXPECT_TRUE(j["imu"]["rate_hz"].is_null());
   EXPECT_TRUE(j["checks"][0]["value"].is_null());
   EXPECT_EQ(j["checks"][0]["detail"], "no frame paired with a sync edge");
+}
+
+TEST(SynccheckPlot, WritesAPng) {
+  ClockModel model;
+  model.event_probability = 0.9;  // all four streams, kernel-stamped frames among them
+  const SyncReport report = analyse(simulate(model, 52));
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) / "synccheck_plot";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path png = dir / "offsets.png";
+  std::filesystem::remove(png);
+  report.savePlot(png);
+  ASSERT_TRUE(std::filesystem::exists(png));
+  EXPECT_GT(std::filesystem::file_size(png), 10'000u);  // axes, text and four series, not an empty canvas
+  std::ifstream file(png, std::ios::binary);
+  std::array<unsigned char, 8> signature{};
+  file.read(reinterpret_cast<char*>(signature.data()), signature.size());
+  const std::array<unsigned char, 8> kPngSignature{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  EXPECT_EQ(signature, kPngSignature);
+}
+
+TEST(SynccheckPlot, AnUnwritablePathIsAnError) {
+  const SyncReport report = analyse(simulate(ClockModel{}, 53));
+  test::expectError([&] { report.savePlot("/nonexistent-dir/offsets.png"); }, "/nonexistent-dir/offsets.png");
 }
 
 }  // namespace

@@ -2,10 +2,11 @@
 // What analyse() (analyse.hpp) finds: per stream pair the offset, jitter and drift; dropped and duplicated
 // frames; IMU rate and gaps; the clock mapper's residuals; and the pass/fail checks against
 // SyncCheckOptions. Quantities that could not be measured (no pairs, one sample) are NaN, and NaN fails
-// every check that reads it. toJson() is what `vifusion synccheck` prints.
+// every check that reads it. toJson() and savePlot() are what `vifusion synccheck` prints and draws.
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -140,6 +141,8 @@ struct SyncReport {
   std::vector<std::string> failedChecks() const;
   /// One JSON object, keys stable and documented in sync_report_json.cpp; NaN becomes null.
   std::string toJson() const;
+  /// A PNG of every stream's offset over time [ms against s]. @throws vifusion::Error if it cannot be written.
+  void savePlot(const std::filesystem::path& path) const;
 };
 
 }  // namespace vifusion::synccheck

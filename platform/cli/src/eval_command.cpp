@@ -6,7 +6,6 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "line_plot.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/time.hpp"
 #include "vifusion/datasets/ground_truth_states.hpp"
@@ -18,11 +17,14 @@
 #include "vifusion/eval/state_errors.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/scene/living_room.hpp"
+#include "vifusion/synccheck/line_plot.hpp"
 
 namespace vifusion::cli {
 namespace {
 
 using nlohmann::json;
+using synccheck::LinePlot;
+using synccheck::PlotSeries;
 
 /// The two world axes that span the horizontal plane, for a top view.
 std::pair<int, int> horizontalAxes(const std::string& up) { return up == "z" ? std::pair{0, 1} : std::pair{0, 2}; }

@@ -1,4 +1,4 @@
-#include "line_plot.hpp"
+#include "vifusion/synccheck/line_plot.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "vifusion/core/error.hpp"
 
-namespace vifusion::cli {
+namespace vifusion::synccheck {
 namespace {
 
 /// Tick spacing of 1, 2 or 5 × 10^k giving about `target` intervals over `range`.
@@ -95,4 +95,4 @@ void LinePlot::save(const std::filesystem::path& path, int width, int height) co
   if (!cv::imwrite(path.string(), image)) throw Error(path.string() + ": cannot write the plot");
 }
 
-}  // namespace vifusion::cli
+}  // namespace vifusion::synccheck

@@ -1,12 +1,12 @@
 #pragma once
-// Minimal PNG line plots for evaluation reports (OpenCV drawing, no GUI): axes with round tick
+// Minimal PNG line plots for evaluation and sync reports (OpenCV drawing, no GUI): axes with round tick
 // values, several named series, optional equal aspect for top views of trajectories.
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
-namespace vifusion::cli {
+namespace vifusion::synccheck {
 
 struct PlotSeries {
   std::string name;
@@ -32,4 +32,4 @@ class LinePlot {
   bool equal_aspect_ = false;
 };
 
-}  // namespace vifusion::cli
+}  // namespace vifusion::synccheck

@@ -10,7 +10,7 @@ void FrameStamps::serialize(CdrWriter& writer) const {
   writer.writeUint32(device_frame_number);
   writer.writeInt64(kernel_mid_exposure_ns);
   writer.writeInt64(device_event_ns);
-  writer.writeUint32(device_event_ticks);
+  writer.writeInt64(device_event_clock_ns);
   writer.writeBool(stamped_by_device_event);
   writer.writeUint32(depth_sequence);
   writer.writeUint32(colour_sequence);
@@ -23,7 +23,7 @@ void FrameStamps::deserialize(CdrReader& reader) {
   device_frame_number = reader.readUint32("device_frame_number");
   kernel_mid_exposure_ns = reader.readInt64("kernel_mid_exposure_ns");
   device_event_ns = reader.readInt64("device_event_ns");
-  device_event_ticks = reader.readUint32("device_event_ticks");
+  device_event_clock_ns = reader.readInt64("device_event_clock_ns");
   stamped_by_device_event = reader.readBool("stamped_by_device_event");
   depth_sequence = reader.readUint32("depth_sequence");
   colour_sequence = reader.readUint32("colour_sequence");

@@ -91,7 +91,7 @@ SampleMessages::SampleMessages()
   frame_stamps.device_frame_number = 4'000'000'007u;
   frame_stamps.kernel_mid_exposure_ns = kBaseNs + 7 * kFramePeriodNs - 412'345;
   frame_stamps.device_event_ns = kBaseNs + 7 * kFramePeriodNs;
-  frame_stamps.device_event_ticks = 3'141'592'653u;
+  frame_stamps.device_event_clock_ns = 5'141'592'653'589;
   frame_stamps.stamped_by_device_event = true;
   frame_stamps.depth_sequence = 1'007;
   frame_stamps.colour_sequence = 2'007;

@@ -122,7 +122,7 @@ void writeValue(JsonWriter& json, const FrameStamps& stamps) {
   json.key("device_frame_number").integer(stamps.device_frame_number);
   json.key("kernel_mid_exposure_ns").bigInteger(stamps.kernel_mid_exposure_ns);
   json.key("device_event_ns").bigInteger(stamps.device_event_ns);
-  json.key("device_event_ticks").integer(stamps.device_event_ticks);
+  json.key("device_event_clock_ns").bigInteger(stamps.device_event_clock_ns);
   json.key("stamped_by_device_event").boolean(stamps.stamped_by_device_event);
   json.key("depth_sequence").integer(stamps.depth_sequence);
   json.key("colour_sequence").integer(stamps.colour_sequence);

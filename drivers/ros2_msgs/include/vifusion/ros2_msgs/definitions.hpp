@@ -68,7 +68,7 @@ inline constexpr std::string_view kFrameStamps =
     "uint32 device_frame_number     # the camera's own frame counter (DS4 metadata)\n"
     "int64 kernel_mid_exposure_ns   # V4L2 buffer time moved to mid-exposure, host CLOCK_MONOTONIC [ns]\n"
     "int64 device_event_ns          # motion module's frame event mapped to host time [ns]; 0: none\n"
-    "uint32 device_event_ticks      # that event's raw device timestamp [ticks]\n"
+    "int64 device_event_clock_ns    # that event on the device clock, unwrapped ticks as ns; 0: none\n"
     "bool stamped_by_device_event   # true: header.stamp comes from the device event, false: the kernel\n"
     "uint32 depth_sequence          # V4L2 sequence number of the depth buffer\n"
     "uint32 colour_sequence         # V4L2 sequence number of the colour buffer\n"

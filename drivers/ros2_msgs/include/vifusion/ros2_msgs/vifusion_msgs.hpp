@@ -25,7 +25,7 @@ struct FrameStamps {
   std::uint32_t device_frame_number = 0;    ///< the camera's own frame counter (DS4 metadata)
   std::int64_t kernel_mid_exposure_ns = 0;  ///< V4L2 buffer time moved to mid-exposure [host ns]
   std::int64_t device_event_ns = 0;         ///< motion module's frame event mapped to host [ns]; 0: none
-  std::uint32_t device_event_ticks = 0;     ///< that event's raw device timestamp [ticks]
+  std::int64_t device_event_clock_ns = 0;   ///< that event on the device clock (unwrapped ticks as ns); 0: none
   bool stamped_by_device_event = false;     ///< header.stamp came from device_event_ns (else the kernel's)
   std::uint32_t depth_sequence = 0;         ///< V4L2 sequence number of the depth buffer
   std::uint32_t colour_sequence = 0;        ///< V4L2 sequence number of the colour buffer

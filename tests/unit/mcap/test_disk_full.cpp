@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/mount.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -101,6 +102,46 @@ TEST(McapDiskFull, TheWriterReportsEnospcAndTheBytesBeforeStayReadable) {
   McapReader recovered(elsewhere.file("recovered.mcap"));
   EXPECT_TRUE(recovered.summaryUsed()) << recovered.summaryProblem();
   EXPECT_EQ(test::readAll(recovered), read);
+}
+
+/// The descriptor this process holds open on `path` (from /proc/self/fd), or -1.
+int descriptorOf(const std::string& path) {
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd")) {
+    std::error_code error;
+    if (std::filesystem::read_symlink(entry.path(), error) == path) return std::stoi(entry.path().filename());
+  }
+  return -1;
+}
+
+TEST(McapDiskFull, StorageGoneAwayIsReportedAndTheRecordingStopsCleanly) {
+  // Closing the writer's descriptor behind its back stands in for unplugged storage: every later write
+  // fails (EBADF here; EIO or ENODEV from a vanished USB disk take the same path).
+  test::TempDir dir;
+  const std::string path = dir.file("unplugged.mcap");
+  McapWriterOptions options;
+  options.chunk_target_bytes = 1024;
+  McapWriter writer(options);
+  ASSERT_TRUE(writer.open(path));
+  const std::uint16_t imu = writer.registerChannel("/imu", McapWriter::kNoId, "cdr");
+  const std::vector<std::uint8_t> sample(200, 0x11);
+  for (std::uint32_t i = 0; i < 20; ++i) ASSERT_TRUE(writer.write(imu, i, kStartNs + i, kStartNs + i, sample));
+  const std::uint64_t written_before = writer.bytesWritten();
+  const std::uint64_t messages_before = writer.messagesWritten();
+  const int fd = descriptorOf(path);
+  ASSERT_GE(fd, 0) << "no descriptor open on " << path;
+  ::close(fd);
+
+  bool accepted = true;
+  for (std::uint32_t i = 20; i < 40 && accepted; ++i)
+    accepted = writer.write(imu, i, kStartNs + i, kStartNs + i, sample);
+  EXPECT_FALSE(accepted);
+  EXPECT_EQ(writer.error(), path + ": write of Chunk record failed at byte offset " + std::to_string(written_before) +
+                                ": Bad file descriptor");
+  EXPECT_FALSE(writer.close());
+
+  McapReader reader(path);
+  EXPECT_EQ(test::readAll(reader).size(), messages_before);
+  EXPECT_EQ(messages_before, 20u);  // 4 chunks of 5 records of 31 + 200 bytes (1155 >= 1024)
 }
 
 TEST(McapDiskFull, OpeningOnAFullDeviceFailsWithTheReason) {

@@ -14,6 +14,7 @@
 // buffer for the caller to serialise into, commitMessage() completes the record. The first write or
 // fdatasync error (ENOSPC, EIO, EBADF after the storage went away) puts the writer in a failed state that
 // keeps the message (path, byte offset, errno text); every later call is then a no-op returning false.
+// One thread uses a writer (the recorder's); nothing in it locks.
 //
 //   McapWriter writer;                                   // options validated, buffers sized here
 //   if (!writer.open("run.mcap")) report(writer.error());

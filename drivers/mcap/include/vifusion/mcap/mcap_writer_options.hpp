@@ -44,8 +44,9 @@ struct McapWriterOptions {
   /// Channels (and, separately, schemas) one file may register, [1, kMaxChannels].
   std::size_t max_channels = 64;
   /// Chunk index entries reserved at open() [chunks], [1, kMaxReservedChunks]: the summary needs one per
-  /// chunk. 36 000 is one hour of 100 ms chunks (~3.5 MB); beyond it the table grows by doubling, the
-  /// only allocation after open(), once per doubling when a chunk closes.
+  /// chunk. 36 000 is one hour of 100 ms chunks: ~7 MB (64 bytes per chunk and 16 per channel in it,
+  /// reserved for 8 channels). Beyond it the table grows by doubling, the only allocation after open(),
+  /// once per doubling when a chunk closes.
   std::size_t reserved_chunks = 36'000;
   SyncPolicy sync = SyncPolicy::kFdatasyncPerChunk;
   /// Header.profile: "ros2" says messages are CDR and schemas ros2msg/ros2idl, as `ros2 bag` expects.

@@ -9,6 +9,23 @@ namespace {
 
 constexpr std::size_t kMessageIndexRecordPrefixBytes = kRecordHeaderBytes + kMessageIndexFieldsBytes;
 
+// Field offsets in a Message record: channel_id u16, sequence u32, log_time u64, publish_time u64.
+constexpr std::size_t kMessageChannelAt = kRecordHeaderBytes;
+constexpr std::size_t kMessageSequenceAt = kMessageChannelAt + 2;
+constexpr std::size_t kMessageLogTimeAt = kMessageSequenceAt + 4;
+constexpr std::size_t kMessagePublishTimeAt = kMessageLogTimeAt + 8;
+
+// Field offsets in an uncompressed Chunk record's prefix: message_start_time u64, message_end_time u64,
+// uncompressed_size u64, uncompressed_crc u32, compression (u32 length 0), records length u64.
+constexpr std::size_t kChunkStartTimeAt = kRecordHeaderBytes;
+constexpr std::size_t kChunkEndTimeAt = kChunkStartTimeAt + 8;
+constexpr std::size_t kChunkUncompressedSizeAt = kChunkEndTimeAt + 8;
+constexpr std::size_t kChunkCrcAt = kChunkUncompressedSizeAt + 8;
+constexpr std::size_t kChunkCompressionAt = kChunkCrcAt + 4;
+constexpr std::size_t kChunkRecordsLengthAt = kChunkCompressionAt + 4;
+static_assert(kChunkRecordsLengthAt + 8 == kChunkRecordPrefixBytes);
+static_assert(kMessagePublishTimeAt + 8 == kMessageRecordPrefixBytes);
+
 }  // namespace
 
 ChunkBuilder::ChunkBuilder(std::size_t records_capacity, std::size_t max_messages, std::uint16_t max_channel_id)
@@ -33,11 +50,11 @@ void ChunkBuilder::commit(std::uint16_t channel_id, std::uint32_t sequence, std:
                           std::int64_t publish_time_ns, std::size_t bytes_used) {
   std::uint8_t* record = buffer_.data() + kChunkRecordPrefixBytes + records_used_;
   record[0] = static_cast<std::uint8_t>(Opcode::kMessage);
-  storeU64(record + 1, kMessageFieldsBytes + bytes_used);
-  storeU16(record + 9, channel_id);
-  storeU32(record + 11, sequence);
-  storeU64(record + 15, static_cast<std::uint64_t>(log_time_ns));
-  storeU64(record + 23, static_cast<std::uint64_t>(publish_time_ns));
+  storeU64(record + kRecordLengthAt, kMessageFieldsBytes + bytes_used);
+  storeU16(record + kMessageChannelAt, channel_id);
+  storeU32(record + kMessageSequenceAt, sequence);
+  storeU64(record + kMessageLogTimeAt, static_cast<std::uint64_t>(log_time_ns));
+  storeU64(record + kMessagePublishTimeAt, static_cast<std::uint64_t>(publish_time_ns));
   const std::size_t record_bytes = kMessageRecordPrefixBytes + bytes_used;
   records_crc_.update({record, record_bytes});
 
@@ -55,13 +72,13 @@ void ChunkBuilder::commit(std::uint16_t channel_id, std::uint32_t sequence, std:
 std::span<const std::uint8_t> ChunkBuilder::finishChunkRecord() {
   std::uint8_t* prefix = buffer_.data();
   prefix[0] = static_cast<std::uint8_t>(Opcode::kChunk);
-  storeU64(prefix + 1, kChunkFieldsBytes + records_used_);
-  storeU64(prefix + 9, static_cast<std::uint64_t>(start_time_ns_));
-  storeU64(prefix + 17, static_cast<std::uint64_t>(end_time_ns_));
-  storeU64(prefix + 25, records_used_);  // uncompressed_size
-  storeU32(prefix + 33, records_crc_.value());
-  storeU32(prefix + 37, 0);  // compression: the empty string
-  storeU64(prefix + 41, records_used_);
+  storeU64(prefix + kRecordLengthAt, kChunkFieldsBytes + records_used_);
+  storeU64(prefix + kChunkStartTimeAt, static_cast<std::uint64_t>(start_time_ns_));
+  storeU64(prefix + kChunkEndTimeAt, static_cast<std::uint64_t>(end_time_ns_));
+  storeU64(prefix + kChunkUncompressedSizeAt, records_used_);
+  storeU32(prefix + kChunkCrcAt, records_crc_.value());
+  storeU32(prefix + kChunkCompressionAt, 0);  // the empty string: uncompressed
+  storeU64(prefix + kChunkRecordsLengthAt, records_used_);
   return {buffer_.data(), kChunkRecordPrefixBytes + records_used_};
 }
 

@@ -86,7 +86,7 @@ bool acceptChunk(std::span<const std::uint8_t> content, RecordingContents& conte
         break;
       }
       default:
-        if (record.opcode < 0x10) {
+        if (record.opcode < kFirstUndefinedOpcode) {
           problem = "a " + std::string(opcodeName(record.opcode)) + " record is not allowed inside a chunk";
           ok = false;
         }
@@ -124,7 +124,7 @@ void scanDataSection(const ByteSource& source, RecordingContents& contents) {
     std::uint8_t header[kRecordHeaderBytes];
     source.read(position, header);
     const std::uint8_t opcode = header[0];
-    const std::uint64_t length = loadU64(header + 1);
+    const std::uint64_t length = loadU64(header + kRecordLengthAt);
     const std::string name(opcodeName(opcode));
     if (length > left - kRecordHeaderBytes) {
       stop = "the file ends inside a " + name + " record (content of " + std::to_string(length) + " bytes, " +
@@ -189,7 +189,7 @@ void scanDataSection(const ByteSource& source, RecordingContents& contents) {
         end_of_data = true;
         break;
       default:
-        if (opcode < 0x10) {
+        if (opcode < kFirstUndefinedOpcode) {
           stop = "a " + name + " record, which is not allowed in the data section (corrupt bytes?)";
           break;
         }

@@ -50,7 +50,7 @@ void readHeader(const ByteSource& source, detail::RecordingContents& contents) {
     throw Error(name + ": not an MCAP file: the record after the magic is a " + std::string(opcodeName(header[0])) +
                 " record, not a Header");
   }
-  const std::uint64_t length = left >= kRecordHeaderBytes ? loadU64(header + 1) : 0;
+  const std::uint64_t length = left >= kRecordHeaderBytes ? loadU64(header + kRecordLengthAt) : 0;
   if (left < kRecordHeaderBytes || length > left - kRecordHeaderBytes) {
     contents.header_end = size;
     contents.summary_problem = "the file ends inside the Header record";
@@ -131,9 +131,10 @@ bool McapReader::loadNextItem(MessageView& message) {
   record_buffer_.resize(static_cast<std::size_t>(item.record_bytes));
   source_->read(item.offset, record_buffer_);
   const std::uint8_t expected = static_cast<std::uint8_t>(item.is_chunk ? Opcode::kChunk : Opcode::kMessage);
-  if (record_buffer_[0] != expected || loadU64(record_buffer_.data() + 1) != item.record_bytes - kRecordHeaderBytes) {
+  if (record_buffer_[0] != expected ||
+      loadU64(record_buffer_.data() + kRecordLengthAt) != item.record_bytes - kRecordHeaderBytes) {
     failChunk("the index points at a " + std::string(opcodeName(record_buffer_[0])) + " record of " +
-              std::to_string(loadU64(record_buffer_.data() + 1)) + " bytes, not a " +
+              std::to_string(loadU64(record_buffer_.data() + kRecordLengthAt)) + " bytes, not a " +
               std::string(opcodeName(expected)) + " record of " +
               std::to_string(item.record_bytes - kRecordHeaderBytes));
   }
@@ -166,7 +167,7 @@ bool McapReader::nextInChunk(MessageView& message) {
     case Opcode::kChannel:
       return false;  // taken when the file was opened
     default:
-      if (record.opcode < 0x10) {
+      if (record.opcode < kFirstUndefinedOpcode) {
         failChunk("record at offset " + std::to_string(record.offset) + " of its records: a " +
                   std::string(opcodeName(record.opcode)) + " record is not allowed inside a chunk");
       }

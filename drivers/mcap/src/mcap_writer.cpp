@@ -136,9 +136,10 @@ std::span<std::uint8_t> McapWriter::reserveMessage(std::size_t max_bytes) {
   reservation_open_ = false;
   if (!isOpen() || failed()) return {};
   if (max_bytes > options_.max_message_bytes) {
-    if (countRejection())
-      first_rejection_ = ("reserveMessage(" + std::to_string(max_bytes) +
-                          " bytes): more than max_message_bytes = " + std::to_string(options_.max_message_bytes));
+    if (countRejection()) {
+      first_rejection_ = "reserveMessage(" + std::to_string(max_bytes) +
+                         " bytes): more than max_message_bytes = " + std::to_string(options_.max_message_bytes);
+    }
     return {};
   }
   if (!chunk_->fits(max_bytes) && !writeChunk()) return {};
@@ -153,30 +154,34 @@ bool McapWriter::commitMessage(std::uint16_t channel_id, std::uint32_t sequence,
   const bool reserved = reservation_open_;
   reservation_open_ = false;
   if (!reserved) {
-    if (countRejection())
-      first_rejection_ = ("commitMessage(channel " + std::to_string(channel_id) + ", sequence " +
-                          std::to_string(sequence) + "): no space was reserved (call reserveMessage first)");
+    if (countRejection()) {
+      first_rejection_ = "commitMessage(channel " + std::to_string(channel_id) + ", sequence " +
+                         std::to_string(sequence) + "): no space was reserved (call reserveMessage first)";
+    }
     return false;
   }
   if (bytes_used > reservation_bytes_) {
-    if (countRejection())
-      first_rejection_ =
-          ("commitMessage(channel " + std::to_string(channel_id) + ", sequence " + std::to_string(sequence) +
-           "): " + std::to_string(bytes_used) + " bytes used of " + std::to_string(reservation_bytes_) + " reserved");
+    if (countRejection()) {
+      first_rejection_ = "commitMessage(channel " + std::to_string(channel_id) + ", sequence " +
+                         std::to_string(sequence) + "): " + std::to_string(bytes_used) + " bytes used of " +
+                         std::to_string(reservation_bytes_) + " reserved";
+    }
     return false;
   }
   if (channel_id == kNoId || channel_id > channels_.size()) {
-    if (countRejection())
-      first_rejection_ = ("commitMessage(channel " + std::to_string(channel_id) + ", sequence " +
-                          std::to_string(sequence) + "): channel " + std::to_string(channel_id) +
-                          " is not registered (" + std::to_string(channels_.size()) + " channels)");
+    if (countRejection()) {
+      first_rejection_ = "commitMessage(channel " + std::to_string(channel_id) + ", sequence " +
+                         std::to_string(sequence) + "): channel " + std::to_string(channel_id) +
+                         " is not registered (" + std::to_string(channels_.size()) + " channels)";
+    }
     return false;
   }
   if (log_time_ns < 0 || publish_time_ns < 0) {
-    if (countRejection())
-      first_rejection_ = ("commitMessage(" + channels_[channel_id - 1].topic + ", sequence " +
-                          std::to_string(sequence) + "): negative time (log_time " + std::to_string(log_time_ns) +
-                          " ns, publish_time " + std::to_string(publish_time_ns) + " ns)");
+    if (countRejection()) {
+      first_rejection_ = "commitMessage(" + channels_[channel_id - 1].topic + ", sequence " + std::to_string(sequence) +
+                         "): negative time (log_time " + std::to_string(log_time_ns) + " ns, publish_time " +
+                         std::to_string(publish_time_ns) + " ns)";
+    }
     return false;
   }
   chunk_->commit(channel_id, sequence, log_time_ns, publish_time_ns, bytes_used);
@@ -259,7 +264,7 @@ bool McapWriter::writeAttachment(std::string_view name, std::string_view media_t
   detail::appendAttachmentFields(*scratch_, entry);
   const std::size_t fields_bytes = scratch_->size() - kRecordHeaderBytes;
   constexpr std::size_t kCrcBytes = 4;
-  storeU64(scratch_->data() + start + 1, fields_bytes + data.size() + kCrcBytes);
+  storeU64(scratch_->data() + start + kRecordLengthAt, fields_bytes + data.size() + kCrcBytes);
   entry.record_bytes = kRecordHeaderBytes + fields_bytes + data.size() + kCrcBytes;
   Crc32 crc;
   crc.update(scratch_->bytes().subspan(kRecordHeaderBytes));

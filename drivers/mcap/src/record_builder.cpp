@@ -14,7 +14,7 @@ std::size_t RecordBuilder::beginRecord(Opcode opcode) {
 }
 
 void RecordBuilder::endRecord(std::size_t start) {
-  storeU64(bytes_.data() + start + 1, bytes_.size() - start - kRecordHeaderBytes);
+  storeU64(bytes_.data() + start + kRecordLengthAt, bytes_.size() - start - kRecordHeaderBytes);
 }
 
 std::size_t RecordBuilder::beginLengthPrefix() {

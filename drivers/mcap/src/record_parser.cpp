@@ -260,7 +260,7 @@ bool nextRecord(std::span<const std::uint8_t> bytes, std::size_t& position, RawR
     return false;
   }
   const std::uint8_t opcode = bytes[position];
-  const std::uint64_t length = loadU64(bytes.data() + position + 1);
+  const std::uint64_t length = loadU64(bytes.data() + position + kRecordLengthAt);
   if (length > left - kRecordHeaderBytes) {
     problem = "ends inside a " + std::string(opcodeName(opcode)) + " record at offset " + std::to_string(position) +
               " (content of " + std::to_string(length) + " bytes, " + std::to_string(left - kRecordHeaderBytes) +

@@ -39,7 +39,7 @@ bool loadAttachment(const ByteSource& source, const AttachmentIndexFields& index
   }
   const std::vector<std::uint8_t> record = readRange(source, index.offset, index.length);
   if (record[0] != static_cast<std::uint8_t>(Opcode::kAttachment) ||
-      loadU64(record.data() + 1) != index.length - kRecordHeaderBytes) {
+      loadU64(record.data() + kRecordLengthAt) != index.length - kRecordHeaderBytes) {
     problem = where + " does not point at an Attachment record of that length";
     return false;
   }
@@ -110,7 +110,7 @@ bool readSummaryRecords(const ByteSource& source, std::span<const std::uint8_t> 
       case Opcode::kSummaryOffset:
         break;
       default:
-        if (record.opcode < 0x10) {
+        if (record.opcode < kFirstUndefinedOpcode) {
           problem = "a " + std::string(opcodeName(record.opcode)) + " record is not allowed in the summary";
           return false;
         }
@@ -135,7 +135,8 @@ bool readSummary(const ByteSource& source, RecordingContents& contents, std::str
     return false;
   }
   FooterFields footer;
-  if (tail[0] != static_cast<std::uint8_t>(Opcode::kFooter) || loadU64(tail.data() + 1) != kFooterFieldsBytes ||
+  if (tail[0] != static_cast<std::uint8_t>(Opcode::kFooter) ||
+      loadU64(tail.data() + kRecordLengthAt) != kFooterFieldsBytes ||
       !parseFooter(std::span(tail).subspan(kRecordHeaderBytes, kFooterFieldsBytes), footer, problem)) {
     problem = "no Footer record before the closing magic at offset " + std::to_string(footer_offset);
     return false;
@@ -157,7 +158,8 @@ bool readSummary(const ByteSource& source, RecordingContents& contents, std::str
     return false;
   }
   const std::vector<std::uint8_t> region = readRange(source, data_end, footer_offset - data_end);
-  if (region[0] != static_cast<std::uint8_t>(Opcode::kDataEnd) || loadU64(region.data() + 1) != kDataEndFieldsBytes) {
+  if (region[0] != static_cast<std::uint8_t>(Opcode::kDataEnd) ||
+      loadU64(region.data() + kRecordLengthAt) != kDataEndFieldsBytes) {
     problem = "no DataEnd record just before the summary (offset " + std::to_string(data_end) + ")";
     return false;
   }

@@ -32,12 +32,18 @@ enum class Opcode : std::uint8_t {
   kDataEnd = 0x0F,
 };
 
+/// Opcodes from here on are not defined by version 0 of the specification: reserved up to 0x7F, private
+/// from 0x80. Readers skip such records.
+inline constexpr std::uint8_t kFirstUndefinedOpcode = 0x10;
+
 /// The record's name as the specification writes it ("Chunk", "Message Index"); for opcodes it does not
 /// define, "private record" (0x80..0xFF) or "reserved record".
 std::string_view opcodeName(std::uint8_t opcode);
 
 /// <opcode u8><content length u64>.
 inline constexpr std::size_t kRecordHeaderBytes = 1 + 8;
+/// Where a record's content length sits: right after its opcode byte.
+inline constexpr std::size_t kRecordLengthAt = 1;
 /// Message content before its data: channel_id u16, sequence u32, log_time u64, publish_time u64.
 inline constexpr std::size_t kMessageFieldsBytes = 2 + 4 + 8 + 8;
 /// A whole Message record before its data.

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "vifusion/core/time.hpp"
+#include "vifusion/mcap/mcap_format.hpp"
 
 namespace vifusion::mcap {
 
@@ -50,7 +51,7 @@ struct McapWriterOptions {
   std::size_t reserved_chunks = 36'000;
   SyncPolicy sync = SyncPolicy::kFdatasyncPerChunk;
   /// Header.profile: "ros2" says messages are CDR and schemas ros2msg/ros2idl, as `ros2 bag` expects.
-  std::string profile = "ros2";
+  std::string profile{kProfileRos2};
   /// Header.library: who wrote the file, for debugging.
   std::string library = "vifusion";
 

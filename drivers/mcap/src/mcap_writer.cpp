@@ -86,6 +86,10 @@ std::uint16_t McapWriter::registerSchema(std::string_view name, std::string_view
   requireOpen("registerSchema");
   if (failed()) return kNoId;
   if (name.empty()) throw Error("McapWriter::registerSchema: the schema name is empty");
+  if (encoding.empty() && !data.empty()) {
+    throw Error("McapWriter::registerSchema(" + quoted(name) + "): " + std::to_string(data.size()) +
+                " bytes of data without an encoding (ROS 2: \"ros2msg\")");
+  }
   if (schemas_.size() >= options_.max_channels) {
     throw Error("McapWriter::registerSchema(" + quoted(name) +
                 "): max_channels = " + std::to_string(options_.max_channels) + " schemas are registered already");

@@ -159,6 +159,19 @@ TEST(McapRoundTrip, ReserveAndCommitWriteInPlace) {
   EXPECT_EQ(reader.channel(channel)->schema_id, 0u);
 }
 
+TEST(McapRoundTrip, AFullMessageIndexClosesTheChunkEarly) {
+  test::TempDir dir;
+  McapWriterOptions options = fastOptions();
+  options.max_messages_per_chunk = 4;
+  const std::vector<TestMessage> messages = test::makeMessages(10, kChannels, kStartNs, kNsPerMillisecond, 1, 5, 10);
+  test::writeRecording(dir.file("index_full.mcap"), options, messages, kChannels);
+  McapReader reader(dir.file("index_full.mcap"));
+  ASSERT_EQ(reader.chunks().size(), 3u);  // 4 + 4 + 2 messages
+  EXPECT_EQ(reader.chunks()[1].message_start_time_ns, kStartNs + 4 * kNsPerMillisecond);
+  EXPECT_EQ(reader.chunks()[1].message_end_time_ns, kStartNs + 7 * kNsPerMillisecond);
+  EXPECT_EQ(test::readAll(reader), messages);
+}
+
 TEST(McapRoundTrip, AnEmptyRecordingIsValid) {
   test::TempDir dir;
   McapWriter writer(fastOptions());
@@ -205,6 +218,9 @@ TEST(McapRoundTrip, MisuseOfTheSetupCallsIsAnError) {
   vifusion::test::expectError([&] { writer.registerChannel("/imu", 3, "cdr"); },
                               "registerChannel(\"/imu\"): schema id 3 is not registered (0 schemas)");
   vifusion::test::expectError([&] { writer.registerChannel("", 0, "cdr"); }, "the topic is empty");
+  const std::vector<std::uint8_t> text = {'x'};
+  vifusion::test::expectError([&] { writer.registerSchema("pkg/msg/X", "", text); },
+                              "registerSchema(\"pkg/msg/X\"): 1 bytes of data without an encoding");
   McapWriterOptions bad;
   bad.chunk_target_bytes = 0;
   vifusion::test::expectError([&] { McapWriter refused(bad); }, "McapWriterOptions.chunk_target_bytes");

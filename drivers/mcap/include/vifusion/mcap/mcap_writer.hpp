@@ -70,7 +70,8 @@ class McapWriter {
 
   /// Defines a schema (ROS 2: name "sensor_msgs/msg/Imu", encoding "ros2msg", data the message definition)
   /// and writes its record. @return its id (1, 2, ...), or kNoId when the writer has failed.
-  /// @throws vifusion::Error when not open, the name is empty, or max_channels schemas exist already.
+  /// @throws vifusion::Error when not open, the name is empty, data comes without an encoding, or
+  /// max_channels schemas exist already.
   std::uint16_t registerSchema(std::string_view name, std::string_view encoding, std::span<const std::uint8_t> data);
   /// Defines a channel on a registered schema (or kNoId for none) and writes its record.
   /// @return its id (1, 2, ...), or kNoId when the writer has failed.
@@ -104,6 +105,9 @@ class McapWriter {
                        std::int64_t log_time_ns, std::int64_t create_time_ns = 0);
 
   /// Writes the last chunk, DataEnd, the summary, the Footer and the closing magic, syncs and closes.
+  /// DataEnd's data-section CRC is 0 ("not computed"): every message byte is covered by its chunk's CRC,
+  /// a cut file has no DataEnd to check anyway, and a second CRC pass over all image bytes would cost CPU
+  /// on the robot for nothing more detected. The Footer's summary CRC is computed.
   /// After a failure it only closes the file (McapReader still reads it; recoverMcap() completes it).
   /// False when anything failed, now or before. A no-op returning !failed() when nothing is open.
   bool close();

@@ -54,6 +54,16 @@ std::string at(const Document& doc, const YAML::Node& node) {
   return doc.file + " line " + std::to_string(mark.line + 1) + ": ";
 }
 
+Document parse(const std::string& text, const std::string& name) {
+  Document doc{name, {}};
+  try {
+    doc.root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw Error(doc.file + " line " + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
+  }
+  return doc;
+}
+
 Document load(const std::filesystem::path& path) {
   Document doc{path.filename().string(), {}};
   std::ifstream in(path);
@@ -268,9 +278,10 @@ RigCalibration readKalibr(const std::filesystem::path& camchain_imucam_yaml, con
   return calibration;
 }
 
-RigCalibration readCalibrationYaml(const std::filesystem::path& path) {
+namespace {
+
+RigCalibration readCalibrationDocument(const Document& doc) {
   RigCalibration calibration;
-  const Document doc = load(path);
   checkKeys(doc, doc.root,
             {"cam0", "cam1", "imu0", "depth_scale_m", "inverse_depth_bias_per_m", "gravity_world", "static_accel_bias"},
             "the top level");
@@ -301,7 +312,15 @@ RigCalibration readCalibrationYaml(const std::filesystem::path& path) {
   return calibration;
 }
 
-void writeCalibrationYaml(const std::filesystem::path& path, const RigCalibration& calibration) {
+}  // namespace
+
+RigCalibration readCalibrationYaml(const std::filesystem::path& path) { return readCalibrationDocument(load(path)); }
+
+RigCalibration readCalibrationYamlText(const std::string& text, const std::string& name) {
+  return readCalibrationDocument(parse(text, name));
+}
+
+std::string calibrationYamlText(const RigCalibration& calibration) {
   const auto vector = [](YAML::Emitter& out, std::initializer_list<double> values) {
     out << YAML::Flow << YAML::BeginSeq;
     for (const double v : values) out << v;
@@ -363,9 +382,14 @@ void writeCalibrationYaml(const std::filesystem::path& path, const RigCalibratio
   out << YAML::EndMap;
   if (!out.good()) throw Error("cannot format calibration: " + out.GetLastError());
 
+  return std::string(out.c_str()) + "\n";
+}
+
+void writeCalibrationYaml(const std::filesystem::path& path, const RigCalibration& calibration) {
+  const std::string text = calibrationYamlText(calibration);
   std::ofstream file(path);
   if (!file) throw Error("cannot create '" + path.string() + "'");
-  file << out.c_str() << '\n';
+  file << text;
   if (!file.flush()) throw Error("cannot write '" + path.string() + "'");
 }
 

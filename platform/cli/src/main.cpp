@@ -38,10 +38,12 @@ int main(int argc, char** argv) {
       "Run the pipeline on a source and write trajectory.txt and report.json (default: the synthetic "
       "living-room sequence, generated on first use)");
   run->add_option("--source", run_options.source,
-                  "sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR, or the live camera zr300[:SERIAL]")
+                  "sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR, rec:FILE.mcap, or the live camera "
+                  "zr300[:SERIAL]")
       ->capture_default_str();
-  run->add_option("--calibration", run_options.calibration,
-                  "zr300: the rig's calibration.yaml (Kalibr cam0/imu0 keys); its image size picks the stream preset");
+  run->add_option(
+      "--calibration", run_options.calibration,
+      "zr300: the rig's calibration.yaml (Kalibr cam0, cam1, imu0 keys); its image size picks the stream preset");
   run->add_option("--mode", run_options.mode, "rgbd, rgbdi (tightly coupled IMU) or gyro (gyroscope only)")
       ->capture_default_str();
   run->add_option("--out", run_options.out, "Output directory")->capture_default_str();
@@ -82,7 +84,7 @@ int main(int argc, char** argv) {
       "--preset", sim.preset,
       "living_room_0..3, fast, quick_rotation, white_wall, long, unmapped_turn, fast_pan or revisit");
   sim_command->add_option("--trajectory", sim.trajectory, "Camera path as a TUM pose file (T_world_camera)");
-  sim_command->add_option("--out", sim.out, "Dataset directory to create")->required();
+  sim_command->add_option("--out", sim.out, "Dataset directory to create, or a recording FILE.mcap")->required();
   sim_command->add_option("--seed", sim.seed, "Random seed: same seed, same dataset")->capture_default_str();
   sim_command->add_option("--imu", sim.imu, "IMU noise (Table I column)")
       ->capture_default_str()

@@ -25,6 +25,7 @@
 #include "vifusion/slam/slam.hpp"
 #ifdef VIFUSION_WITH_ZR300
 #include "vifusion/discovery/source_spec.hpp"
+#include "vifusion/recording/open_recorded.hpp"
 #include "vifusion/zr300/open_zr300.hpp"
 #endif
 
@@ -100,7 +101,7 @@ bool openRunSource(const RunOptions& options, bool inertial, std::unique_ptr<zr3
     return false;
   }
 #endif
-  source.reader = datasets::openDataset(datasetSpec(options));
+  source.reader = recording::openRecorded(datasetSpec(options));
   if (!source.reader->imu().empty()) {
     source.recorded_imu = std::make_unique<RecordedImuFeed>(source.reader->imu());
     source.imu = source.recorded_imu.get();

@@ -11,6 +11,7 @@
 
 #include "dataset_writer.hpp"
 #include "progress_bar.hpp"
+#include "recording_sequence_writer.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/rig_calibration.hpp"
 #include "vifusion/core/so3.hpp"
@@ -28,6 +29,9 @@
 
 namespace vifusion::cli {
 namespace {
+
+/// `--out` with this extension writes a recording instead of a dataset directory.
+constexpr const char* kRecordingExtension = ".mcap";
 
 constexpr int64_t kFramePeriodNs = 33'333'333;  // 30 Hz, as ICL-NUIM
 
@@ -63,8 +67,13 @@ std::vector<sim::StampedPose> cameraPath(const SimOptions& options) {
   return poses;
 }
 
-/// The writer for `--out`: a dataset directory.
-std::unique_ptr<SequenceWriter> openSequenceWriter(const std::filesystem::path& out) {
+/// The writer for `--out`: a recording for FILE.mcap, a dataset directory otherwise.
+std::unique_ptr<SequenceWriter> openSequenceWriter(const SimOptions& options) {
+  const std::filesystem::path out = options.out;
+  if (out.extension() == kRecordingExtension) {
+    return std::make_unique<RecordingSequenceWriter>(
+        out, options.preset.empty() ? "sim:trajectory " + options.trajectory : "sim:" + options.preset);
+  }
   return std::make_unique<DatasetWriter>(out);
 }
 
@@ -121,7 +130,7 @@ int runSim(const SimOptions& options) {
   imu_options.t_end_ns = t_end_ns;
   const sim::ImuSimResult imu = sim::simulateImu(fit.spline_W_S, imu_options);
 
-  const std::unique_ptr<SequenceWriter> output = openSequenceWriter(options.out);
+  const std::unique_ptr<SequenceWriter> output = openSequenceWriter(options);
   SequenceWriter& writer = *output;
   writer.writeCalibration(calibration);
   writer.writeImu(imu.samples);

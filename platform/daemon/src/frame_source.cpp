@@ -11,6 +11,7 @@
 #include "vifusion/service/log.hpp"
 #ifdef VIFUSION_WITH_ZR300
 #include "vifusion/discovery/source_spec.hpp"
+#include "vifusion/recording/open_recorded.hpp"
 #include "vifusion/zr300/open_zr300.hpp"
 #endif
 
@@ -87,7 +88,7 @@ OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
   }
 #endif
   if (!source.starts_with("sim:")) {
-    opened.reader = datasets::openDataset(source);
+    opened.reader = recording::openRecorded(source);
     return opened;
   }
   const std::string preset = source.substr(4);

@@ -33,6 +33,7 @@
 // because a typo in an optional key (say `timeshift_cam_imu`) would otherwise pass silently.
 
 #include <filesystem>
+#include <string>
 
 #include "vifusion/core/rig_calibration.hpp"
 
@@ -47,6 +48,13 @@ RigCalibration readKalibr(const std::filesystem::path& camchain_imucam_yaml, con
 /// Reads our calibration.yaml (schema above); missing optional keys keep RigCalibration's defaults.
 /// @throws vifusion::Error as readKalibr.
 RigCalibration readCalibrationYaml(const std::filesystem::path& path);
+
+/// Reads calibration.yaml's schema from `text` (a recording's copy); `name` stands for the file in errors.
+/// @throws vifusion::Error as readKalibr.
+RigCalibration readCalibrationYamlText(const std::string& text, const std::string& name);
+
+/// The calibration.yaml text of `calibration` (what writeCalibrationYaml writes).
+std::string calibrationYamlText(const RigCalibration& calibration);
 
 /// Writes `calibration` as calibration.yaml with 17 significant digits, so readCalibrationYaml gives it
 /// back (T_S_C to rounding of one inversion; imu.gravity_mps2 comes back as |g_W|).

@@ -6,9 +6,11 @@
 
 #include "eval_command.hpp"
 #include "gpu_self_check.hpp"
+#include "record_command.hpp"
 #include "run_command.hpp"
 #include "service_commands.hpp"
 #include "sim_command.hpp"
+#include "synccheck_command.hpp"
 #include "vifusion/core/error.hpp"
 
 int main(int argc, char** argv) {
@@ -138,6 +140,65 @@ int main(int argc, char** argv) {
   echo_command->add_flag("--full-arrays", echo.full_arrays, "Print byte arrays (PointCloud2 data) in full");
   add_dds_options(echo_command, echo.dds);
 
+  vifusion::cli::RecordOptions record;
+  CLI::App* record_command = app.add_subcommand(
+      "record",
+      "Record a source (the live camera with IMU, clocks and sync line, or any recorded source) into an MCAP file "
+      "of ROS 2 messages; or --recover a recording that was cut short");
+  record_command->add_option("--source", record.source, "zr300[:SERIAL] or any source of `vifusion run`")
+      ->capture_default_str();
+  record_command->add_option("--calibration", record.calibration, "zr300: the rig's calibration.yaml");
+  record_command->add_option("--mode", record.mode, "rgbd records no IMU; rgbdi and gyro record it")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rgbd", "rgbdi", "gyro"}));
+  record_command->add_option("--out", record.out, "The recording to create, FILE.mcap (with --recover: the output)");
+  record_command->add_option("--duration", record.duration_s, "Stop after this many seconds of source time (0: never)")
+      ->capture_default_str();
+  record_command->add_flag("--realtime", record.realtime, "Recorded sources: deliver frames at their timestamps");
+  record_command->add_option("--gpio", record.gpio, "Record the sync line CHIP:LINE (e.g. gpiochip0:17)");
+  record_command->add_option("--edges", record.edges, "The sync line's edges")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rising", "falling", "both"}));
+  record_command->add_option("--recover", record.recover,
+                             "Rewrite this cut recording complete (into --out, default FILE.recovered.mcap)");
+
+  vifusion::cli::SyncCheckCommandOptions sync;
+  CLI::App* synccheck_command = app.add_subcommand(
+      "synccheck",
+      "Check that camera, IMU and sync-line timestamps agree: offsets, jitter, drift, drops; JSON on stdout, "
+      "exit code 1 when a check fails");
+  synccheck_command->add_option("--source", sync.source, "zr300[:SERIAL] (live) or rec:FILE.mcap")
+      ->capture_default_str();
+  synccheck_command->add_option("--calibration", sync.calibration, "zr300: the rig's calibration.yaml");
+  synccheck_command->add_option("--gpio", sync.gpio, "Live: the sync line CHIP:LINE");
+  std::string polarity = "rising";
+  synccheck_command->add_option("--edges", polarity, "The edge of each strobe pulse")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rising", "falling"}));
+  synccheck_command->add_option("--duration", sync.duration_s, "Live: seconds to collect")->capture_default_str();
+  synccheck_command->add_flag("--simulate", sync.simulate, "Analyse a simulated clock model instead of a source");
+  synccheck_command->add_option("--sim-offset-ns", sync.model.offset_ns, "Simulated frame − strobe offset [ns]")
+      ->capture_default_str();
+  synccheck_command->add_option("--sim-drift-ppm", sync.model.drift_ppm, "Simulated drift [ppm]")
+      ->capture_default_str();
+  synccheck_command->add_option("--sim-jitter-ns", sync.model.jitter_ns, "Simulated jitter std [ns]")
+      ->capture_default_str();
+  synccheck_command->add_option("--sim-drop", sync.model.drop_probability, "Simulated dropped-frame probability")
+      ->capture_default_str();
+  synccheck_command->add_option("--sim-duration", sync.model.duration_s, "Simulated seconds")->capture_default_str();
+  synccheck_command->add_option("--seed", sync.seed, "Simulation seed")->capture_default_str();
+  synccheck_command->add_option("--max-offset-ns", sync.check.max_abs_offset_ns, "Limit on |median offset| [ns]")
+      ->capture_default_str();
+  synccheck_command->add_option("--max-jitter-ns", sync.check.max_jitter_p99_ns, "Limit on jitter p99 [ns]")
+      ->capture_default_str();
+  synccheck_command->add_option("--max-drift-ppm", sync.check.max_abs_drift_ppm, "Limit on |drift| [ppm]")
+      ->capture_default_str();
+  synccheck_command->add_option("--max-dropped", sync.check.max_dropped_fraction, "Limit on dropped frames (fraction)")
+      ->capture_default_str();
+  synccheck_command->add_option("--max-imu-gap-ns", sync.check.max_imu_gap_ns, "Limit on the largest IMU gap [ns]")
+      ->capture_default_str();
+  synccheck_command->add_option("--plot", sync.plot, "Write a PNG of the offsets over time");
+
   vifusion::cli::StatusCommandOptions status;
   CLI::App* status_command = app.add_subcommand(
       "status", "Read rt/vifusion/status and rt/diagnostics once and print the service's state and health verdict");
@@ -152,6 +213,12 @@ int main(int argc, char** argv) {
     if (sim_command->parsed()) return vifusion::cli::runSim(sim);
     if (echo_command->parsed()) return vifusion::cli::runEcho(echo);
     if (status_command->parsed()) return vifusion::cli::runStatus(status);
+    if (record_command->parsed()) return vifusion::cli::runRecord(record);
+    if (synccheck_command->parsed()) {
+      sync.edges = polarity;
+      sync.check.edge_polarity = *vifusion::synccheck::parseEdgePolarity(polarity);
+      return vifusion::cli::runSyncCheck(sync);
+    }
   } catch (const std::exception& error) {
     std::fprintf(stderr, "vifusion: %s\n", error.what());
     return 2;

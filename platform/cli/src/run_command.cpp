@@ -13,6 +13,7 @@
 #include "closure_judge.hpp"
 #include "frame_log.hpp"
 #include "progress_bar.hpp"
+#include "run_source.hpp"
 #include "sim_command.hpp"
 #include "vifusion/config/daemon_config.hpp"
 #include "vifusion/core/error.hpp"
@@ -24,91 +25,11 @@
 #include "vifusion/map/surfel_ply.hpp"
 #include "vifusion/slam/slam.hpp"
 #ifdef VIFUSION_WITH_ZR300
-#include "vifusion/discovery/source_spec.hpp"
-#include "vifusion/recording/open_recorded.hpp"
-#include "vifusion/zr300/open_zr300.hpp"
+#include "vifusion/zr300/zr300_source.hpp"
 #endif
 
 namespace vifusion::cli {
 namespace {
-
-/// A `sim:NAME` source is generated once into <out>/sim_NAME and reused by later runs.
-std::string datasetSpec(const RunOptions& options) {
-  if (options.source.rfind("sim:", 0) != 0) return options.source;
-  const std::string preset = options.source.substr(4);
-  const std::filesystem::path dir = std::filesystem::path(options.out) / ("sim_" + preset);
-  if (!std::filesystem::exists(dir / "rgb.txt")) {
-    std::filesystem::remove_all(dir);  // an interrupted earlier generation
-    SimOptions sim;
-    sim.preset = preset;
-    sim.out = dir.string();
-    sim.quiet = true;
-    runSim(sim);
-  }
-  return "dataset:" + dir.string();
-}
-
-/// Poses reserved up front for a live run without --frames: an hour at 30 Hz; longer runs grow the vector.
-constexpr std::size_t kLiveReservedFrames = 108'000;
-
-/// Set by SIGINT/SIGTERM during a live run: the run ends after the current frame and writes its outputs.
-std::atomic<bool> g_interrupted{false};
-#ifdef VIFUSION_WITH_ZR300
-/// The live camera, whose waiting nextFrame() the handler ends (requestStop() only stores a flag).
-std::atomic<zr300::Zr300Source*> g_live_camera{nullptr};
-#endif
-extern "C" void onInterrupt(int) {
-  g_interrupted.store(true);
-#ifdef VIFUSION_WITH_ZR300
-  if (zr300::Zr300Source* camera = g_live_camera.load()) camera->requestStop();
-#endif
-}
-
-/// The run's frames and their IMU samples: a recording hands every frame its whole IMU stream, the live
-/// camera a window of its driver's ring.
-struct RunSource {
-  std::unique_ptr<datasets::DatasetReader> reader;
-  std::unique_ptr<RecordedImuFeed> recorded_imu;
-  ImuFeed* imu = nullptr;  ///< null: the source has no IMU
-};
-
-/// Opens a recording, or returns false (after printing why) when the live camera cannot be opened.
-bool openRunSource(const RunOptions& options, bool inertial, std::unique_ptr<zr300::Zr300Backend> backend,
-                   RunSource& source) {
-#ifdef VIFUSION_WITH_ZR300
-  if (const std::optional<discovery::Zr300SourceSpec> spec = discovery::parseZr300SourceSpec(options.source)) {
-    zr300::Zr300Options live;
-    live.imu = inertial;  // rgbd mode leaves the motion module alone: frames take their kernel times
-    std::unique_ptr<zr300::Zr300Source> camera;
-    try {
-      camera = zr300::openZr300(*spec, options.calibration, live, std::move(backend));
-    } catch (const std::exception& error) {
-      std::fprintf(stderr, "vifusion run: cannot open source '%s': %s\n", options.source.c_str(), error.what());
-      return false;
-    }
-    source.imu = camera->imuFeed();
-    g_live_camera.store(camera.get());
-    source.reader = std::move(camera);
-    return true;
-  }
-#else
-  (void)backend;
-  if (options.source.rfind("zr300", 0) == 0) {
-    std::fprintf(stderr,
-                 "vifusion run: cannot open source '%s': this build has no live drivers "
-                 "(configured with VIFUSION_WITH_LIVE_DRIVERS=OFF)\n",
-                 options.source.c_str());
-    return false;
-  }
-#endif
-  source.reader = recording::openRecorded(datasetSpec(options));
-  if (!source.reader->imu().empty()) {
-    source.recorded_imu = std::make_unique<RecordedImuFeed>(source.reader->imu());
-    source.imu = source.recorded_imu.get();
-  }
-  (void)inertial;
-  return true;
-}
 
 double mean(double sum, int count) { return count > 0 ? sum / count : 0.0; }
 
@@ -211,16 +132,15 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
   RunSource source;
-  if (!openRunSource(options, inertial, std::move(backend), source)) return config::kExitSource;
+  if (!openRunSource({options.source, options.calibration, options.out, inertial}, "vifusion run", std::move(backend),
+                     source)) {
+    return config::kExitSource;
+  }
   const std::unique_ptr<datasets::DatasetReader>& reader = source.reader;
   if (inertial && source.imu == nullptr) {
     throw Error("--mode " + options.mode + " needs IMU data, and " + reader->describe() + " has none");
   }
-  if (reader->live()) {
-    g_interrupted.store(false);
-    std::signal(SIGINT, onInterrupt);
-    std::signal(SIGTERM, onInterrupt);
-  }
+  if (reader->live()) watchInterrupts(source);
 
   gpu::GpuOptions gpu_options;
   gpu_options.device = options.device;
@@ -247,7 +167,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   uint64_t map_evicted = 0;
   ProgressBar progress("tracking", static_cast<int64_t>(reserved));
   const auto start = std::chrono::steady_clock::now();
-  while (trajectory.size() < total && !g_interrupted.load() && reader->nextFrame(frame)) {
+  while (trajectory.size() < total && !interrupted() && reader->nextFrame(frame)) {
     const std::span<const ImuSample> imu =
         inertial ? source.imu->samplesThrough(frame.t_ns) : std::span<const ImuSample>();
     const slam::FrameResult result = pipeline.process(frame, imu);
@@ -279,8 +199,8 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json camera_report;
+  forgetSource();
 #ifdef VIFUSION_WITH_ZR300
-  g_live_camera.store(nullptr);
   if (const auto* camera = dynamic_cast<const zr300::Zr300Source*>(reader.get())) {
     const zr300::Zr300Stats stats = camera->stats();
     camera_report = {{"frames", stats.frames},

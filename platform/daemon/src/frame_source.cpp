@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/recording/open_recorded.hpp"
 #include "vifusion/service/log.hpp"
 #ifdef VIFUSION_WITH_ZR300
 #include "vifusion/discovery/source_spec.hpp"
-#include "vifusion/recording/open_recorded.hpp"
 #include "vifusion/zr300/open_zr300.hpp"
 #endif
 

@@ -67,6 +67,8 @@ class Recorder {
   Recorder& operator=(const Recorder&) = delete;
 
   bool pushFrame(const RgbdFrame& frame);
+  /// True when the next pushFrame() would find no free slot (the producer's view: never understated).
+  bool frameRingFull() const { return frames_.size() == frames_.capacity(); }
   bool pushImu(const ImuSample& sample);
   bool pushSyncEdge(std::int64_t t_ns, bool rising, std::uint64_t sequence);
   bool pushClock(const ClockRecord& clock);

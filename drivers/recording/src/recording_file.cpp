@@ -138,6 +138,8 @@ bool RecordingFile::open(const std::filesystem::path& path, const RecordingHeade
     return false;
   }
   writer_.writeAttachment(kCalibrationAttachment, "application/yaml", bytesOf(yaml), t_ns, t_ns);
+  // On disk at once: a recording cut right after it started still says what it is and holds its calibration.
+  writer_.flush();
   return !failed();
 }
 

@@ -20,7 +20,7 @@ void sleepUntil(std::int64_t until_ns, const std::atomic<bool>& stop) {
 
 }  // namespace
 
-void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state) {
+void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state, recording::Recorder* recorder) {
   // A camera comes at its own pace: never paced by timestamps.
   const bool paced = realtime && !source.live();
   FrameSlot slot = FrameSlot();
@@ -41,6 +41,7 @@ void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState&
           std::this_thread::sleep_for(std::chrono::milliseconds(1));
         }
       }
+      if (recorder != nullptr) recorder->pushFrame(slot.frame);
       slot.read_ns = monotonicNowNs();
       // Swapping hands the frame over and gets a recycled slot back, its buffers already sized.
       state.frames.tryPush(std::move(slot));

@@ -11,6 +11,7 @@
 #include "vifusion/daemon/frame_reader.hpp"
 #include "vifusion/daemon/frame_source.hpp"
 #include "vifusion/daemon/publisher.hpp"
+#include "vifusion/daemon/recording_session.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
 #include "vifusion/daemon/sync_line_source.hpp"
 #include "vifusion/service/log.hpp"
@@ -127,16 +128,26 @@ int serve(const config::DaemonConfig& config) {
   }
   logLine(LogLevel::Info, "%s", participant->confinement().description.c_str());
 
+  std::unique_ptr<recording::Recorder> recorder;
+  try {
+    recorder = openRecording(config, *source);
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "cannot record: %s", error.what());
+    return config::kExitOutput;
+  }
+  bool recording_failure_reported = false;
+
   SlamWorkerOptions worker_options;
   worker_options.out_dir = config.out;
   worker_options.max_frames = static_cast<std::uint64_t>(config.max_frames);
   worker_options.map_period_ns = secondsToNs(config.map_publish_period_s);
   worker_options.expected_frames = source->live() ? kLiveTrajectoryReserveFrames : source->frameCount();
   worker_options.imu = inertial ? imu_feed : nullptr;
+  worker_options.recorder = inertial ? recorder.get() : nullptr;
   SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
 
   notifier.status("waiting for the first frame");
-  std::thread reader_thread([&] { runFrameReader(*source, config.realtime, state); });
+  std::thread reader_thread([&] { runFrameReader(*source, config.realtime, state, recorder.get()); });
   std::thread slam_thread([&] { worker.run(); });
   std::thread publisher_thread([&] { publisher->run(); });
 
@@ -166,7 +177,8 @@ int serve(const config::DaemonConfig& config) {
       if (opened.request_stop) opened.request_stop();  // a live source may be waiting for its camera
     }
     const std::int64_t now_ns = monotonicNowNs();
-    if (sync_line) reportSyncLine(*sync_line, state);
+    if (sync_line) reportSyncLine(*sync_line, state, recorder.get());
+    if (recorder) reportRecording(*recorder, recording_failure_reported);
     if (opened.report) {
       opened.report(state);
       if (state.source_present.load() != camera_present) {
@@ -239,6 +251,7 @@ int serve(const config::DaemonConfig& config) {
   reader_thread.join();
   slam_thread.join();
   publisher_thread.join();
+  if (recorder) closeRecording(*recorder);
   const int code = state.exit_code.load();
   logLine(code == 0 ? LogLevel::Info : LogLevel::Error, "exiting with code %d after %llu frames (%llu lost)", code,
           static_cast<unsigned long long>(state.frames_processed.load()),

@@ -16,6 +16,17 @@ SlamWorker::SlamWorker(slam::Slam& pipeline, const map::MapOptions& map_options,
   if (options.imu != nullptr) states_.reserve(options.expected_frames);
 }
 
+void SlamWorker::recordImu(std::span<const ImuSample> imu, std::int64_t t_ns) {
+  // Windows overlap (a live feed keeps the estimator's gravity history; a recording's feed is its whole stream):
+  // only the samples through the first one after this frame are new to the recording.
+  for (const ImuSample& sample : imu) {
+    if (sample.t_ns <= recorded_imu_t_ns_) continue;
+    options_.recorder->pushImu(sample);
+    recorded_imu_t_ns_ = sample.t_ns;
+    if (sample.t_ns > t_ns) break;
+  }
+}
+
 void SlamWorker::run() {
   FrameSlot slot;
   std::int64_t next_map_ns = monotonicNowNs() + options_.map_period_ns;
@@ -28,6 +39,7 @@ void SlamWorker::run() {
       }
       const std::span<const ImuSample> imu =
           options_.imu != nullptr ? options_.imu->samplesThrough(slot.frame.t_ns) : std::span<const ImuSample>();
+      if (options_.recorder != nullptr) recordImu(imu, slot.frame.t_ns);
       const slam::FrameResult result = pipeline_.process(slot.frame, imu);
       if (result.closure.outcome == slam::ClosureOutcome::kAccepted) {
         // The map moved: so does the trajectory that built it (frame i is the i-th pose kept).

@@ -24,9 +24,10 @@ std::unique_ptr<gpio_sync::SyncLine> openSyncLine(const config::SyncConfig& conf
 #endif
 }
 
-void reportSyncLine(gpio_sync::SyncLine& line, SharedState& state) {
+void reportSyncLine(gpio_sync::SyncLine& line, SharedState& state, recording::Recorder* recorder) {
   gpio_sync::SyncEdge edge;
   while (line.edgeRing().tryPop(edge)) {
+    if (recorder != nullptr) recorder->pushSyncEdge(edge.t_ns, edge.rising, edge.sequence);
   }
   const gpio_sync::SyncLineStats stats = line.stats();
   state.sync_edge_rate_hz = stats.edge_rate_hz;

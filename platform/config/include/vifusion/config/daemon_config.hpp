@@ -68,6 +68,9 @@ struct DaemonConfig {
   double map_publish_period_s = 5.0;  ///< rt/vifusion/map every this many seconds; 0: never
   double status_period_s = 0.2;       ///< rt/vifusion/status every this many seconds (≥ 1 Hz)
   std::string log_file;               ///< log file, reopened on SIGHUP; "" = stderr (the journal)
+  /// Record the source while mapping (drivers/recording: MCAP of ROS 2 messages) into record_dir.
+  bool record = false;
+  std::string record_dir;  ///< where recordings go ("" = <out>/recordings), one file per start
   DdsConfig dds;
   HealthConfig health;
   SyncConfig sync;

@@ -3,6 +3,7 @@
 
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
+#include "vifusion/recording/recorder.hpp"
 
 namespace vifusion::daemon {
 
@@ -13,6 +14,8 @@ namespace vifusion::daemon {
 ///    because a dataset replayed for evaluation should lose nothing.
 ///  A live source (the camera) is never paced: frames are handed over as they come; with realtime = true a
 ///  full ring drops the newest, with false the reader waits (the camera's driver then drops, counted).
-void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state);
+///  recorder (optional): every frame read is also handed to it (a copy into its ring; never waits).
+void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState& state,
+                    recording::Recorder* recorder = nullptr);
 
 }  // namespace vifusion::daemon

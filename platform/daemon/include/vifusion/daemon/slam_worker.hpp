@@ -12,12 +12,14 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <vector>
 
 #include "vifusion/core/imu_feed.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
+#include "vifusion/recording/recorder.hpp"
 #include "vifusion/slam/slam.hpp"
 
 namespace vifusion::daemon {
@@ -29,6 +31,8 @@ struct SlamWorkerOptions {
   std::size_t expected_frames = 0;  ///< trajectory capacity reserved up front
   /// Inertial modes: the IMU samples per frame (borrowed; must outlive run()). nullptr: none (rgbd).
   ImuFeed* imu = nullptr;
+  /// Records the IMU samples as the frames take them (borrowed; nullptr: not recording).
+  recording::Recorder* recorder = nullptr;
 };
 
 /// Trajectory capacity reserved for a live source, which cannot say how many frames will come: one hour at
@@ -51,12 +55,17 @@ class SlamWorker {
   /// Counts a refused frame and logs it, rate-limited.
   void reportImuIssue(std::int64_t frame_index, const imu::ImuSampleIssue& issue);
 
+  /// Hands the recorder the samples of `imu` newer than the last one it got, through the first one after the
+  /// frame at `t_ns` (later ones come with the next frame).
+  void recordImu(std::span<const ImuSample> imu, std::int64_t t_ns);
+
   slam::Slam& pipeline_;
   map::MapOptions map_options_;
   SlamWorkerOptions options_;
   SharedState& state_;
   std::vector<eval::StampedPose> trajectory_;
-  std::vector<eval::StateRecord> states_;  ///< inertial modes: the frames the estimator held
+  std::vector<eval::StateRecord> states_;       ///< inertial modes: the frames the estimator held
+  std::int64_t recorded_imu_t_ns_ = INT64_MIN;  ///< newest IMU sample handed to the recorder
   std::vector<map::Surfel> snapshot_;
   std::int64_t next_imu_log_ns_ = 0;  ///< host time from which the next IMU issue may be logged [ns]
 };

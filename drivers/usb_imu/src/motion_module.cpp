@@ -1,5 +1,6 @@
 #include "vifusion/usb_imu/motion_module.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
@@ -26,6 +27,7 @@ MotionModule::MotionModule(std::unique_ptr<UsbLink> link, const MotionModuleOpti
       link_(checkedLink(std::move(link))),
       imu_ring_(options.imu_ring_capacity),
       frame_ring_(options.frame_event_ring_capacity),
+      raw_ring_(std::max<std::size_t>(options.raw_transfer_ring_capacity, 1)),
       decoder_(options, imu_ring_, frame_ring_) {}
 
 MotionModule::~MotionModule() { stop(); }
@@ -33,6 +35,7 @@ MotionModule::~MotionModule() { stop(); }
 bool MotionModule::start() {
   stop();
   decoder_.reset();
+  raw_.index = 0;
   setError({});
   const auto unplugged = [this] {
     state_.store(ModuleState::kUnplugged, std::memory_order_release);
@@ -149,6 +152,13 @@ void MotionModule::threadMain() {
 
 void MotionModule::onInterruptTransfer(std::span<const std::uint8_t> bytes, std::int64_t host_receive_ns) {
   decoder_.decode(bytes, host_receive_ns);
+  if (options_.raw_transfer_ring_capacity > 0) {
+    raw_.host_receive_ns = host_receive_ns;
+    raw_.size = std::min(bytes.size(), raw_.bytes.size());
+    std::copy_n(bytes.begin(), raw_.size, raw_.bytes.begin());
+    raw_ring_.tryPush(raw_);  // a full ring counts an overrun: the recorder is behind
+    ++raw_.index;
+  }
 }
 
 MotionModuleStats MotionModule::stats() const {

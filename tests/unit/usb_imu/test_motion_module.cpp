@@ -37,11 +37,11 @@ struct Rig {
   std::unique_ptr<MotionModule> module;
 };
 
-Rig makeRig(const ScriptOptions& script) {
+Rig makeRig(const ScriptOptions& script, const MotionModuleOptions& options = {}) {
   auto device = std::make_unique<ScriptedMotionDevice>(script);
   Rig rig;
   rig.device = device.get();
-  rig.module = std::make_unique<MotionModule>(std::move(device));
+  rig.module = std::make_unique<MotionModule>(std::move(device), options);
   return rig;
 }
 
@@ -156,6 +156,39 @@ TEST(MotionModule, StreamsScaledImuAndFrameEventsOnMappedHostTimeAcrossTheTickWr
     worst_frame_error_ns = std::max(worst_frame_error_ns, std::abs(frames[i].t_ns - true_t_ns));
   }
   EXPECT_LE(worst_frame_error_ns, kTimeToleranceNs);
+}
+
+// For recordings the module also keeps every transfer as it came off the bus (bytes, arrival time, index), so
+// the device's own ticks and counters of every IMU sample survive; off by default.
+TEST(MotionModule, KeepsEveryRawTransferForARecorderWhenAsked) {
+  ScriptOptions script;
+  script.duration_s = 2.0;
+  MotionModuleOptions options;
+  options.raw_transfer_ring_capacity = 1024;
+  Rig rig = makeRig(script, options);
+  ASSERT_TRUE(rig.module->start());
+  ASSERT_TRUE(waitFor([&] { return rig.device->finished(); }));
+  rig.module->stop();
+  const std::uint64_t transfers = rig.device->transferCount();
+  ASSERT_GT(transfers, 0u);
+  RawTransfer raw;
+  std::uint64_t kept = 0;
+  std::int64_t previous_ns = 0;
+  while (rig.module->rawTransferRing().tryPop(raw)) {
+    EXPECT_EQ(raw.index, kept) << "no transfer skipped";
+    EXPECT_EQ(raw.size, motion::kPacketBytes);
+    EXPECT_GT(raw.host_receive_ns, previous_ns);
+    previous_ns = raw.host_receive_ns;
+    ++kept;
+  }
+  EXPECT_EQ(kept, transfers);
+  EXPECT_EQ(rig.module->rawTransferRing().overruns(), 0u);
+
+  Rig without = makeRig(script);
+  ASSERT_TRUE(without.module->start());
+  ASSERT_TRUE(waitFor([&] { return without.device->finished(); }));
+  without.module->stop();
+  EXPECT_FALSE(without.module->rawTransferRing().tryPop(raw)) << "nothing kept by default";
 }
 
 TEST(MotionModule, CorruptTransfersAreCountedAndTheStreamGoesOn) {

@@ -3,7 +3,8 @@
 // 2, runs the power/activation sequence (motion::kStartImuSequence) over bulk OUT 0x01 / IN 0x81, then
 // streams interrupt transfers on 0x84 through a TransferDecoder into two rings the consumer pops:
 //   imuRing()        merged ImuSamples on host CLOCK_MONOTONIC,
-//   frameEventRing() depth-frame events (frame number + host ns) for the camera side to match frames.
+//   frameEventRing() depth-frame events (frame number + host ns) for the camera side to match frames,
+//   rawTransferRing() the transfers as received, when options.raw_transfer_ring_capacity > 0 (recordings).
 //
 // Why async transfers with a fixed pool (LibusbLink) rather than a blocking read loop: libusb's blocking
 // libusb_interrupt_transfer() allocates a libusb_transfer on every call, and between two blocking reads
@@ -32,6 +33,7 @@
 #include "vifusion/usb_imu/frame_event.hpp"
 #include "vifusion/usb_imu/motion_module_options.hpp"
 #include "vifusion/usb_imu/motion_module_stats.hpp"
+#include "vifusion/usb_imu/raw_transfer.hpp"
 #include "vifusion/usb_imu/transfer_decoder.hpp"
 #include "vifusion/usb_imu/usb_link.hpp"
 
@@ -69,6 +71,7 @@ class MotionModule final : private InterruptSink {
   /// Consumer side of the rings (their capacities come from the options).
   SpscRing<ImuSample>& imuRing() { return imu_ring_; }
   SpscRing<DepthFrameEvent>& frameEventRing() { return frame_ring_; }
+  SpscRing<RawTransfer>& rawTransferRing() { return raw_ring_; }
 
  private:
   void onInterruptTransfer(std::span<const std::uint8_t> bytes, std::int64_t host_receive_ns) override;
@@ -83,6 +86,8 @@ class MotionModule final : private InterruptSink {
   std::unique_ptr<UsbLink> link_;
   SpscRing<ImuSample> imu_ring_;
   SpscRing<DepthFrameEvent> frame_ring_;
+  SpscRing<RawTransfer> raw_ring_;  ///< one unused slot when raw transfers are not kept
+  RawTransfer raw_;                 ///< the transfer being copied (driver thread)
   TransferDecoder decoder_;
   std::array<std::uint8_t, motion::kMaxCommandBytes> command_buffer_{};
   std::atomic<ModuleState> state_{ModuleState::kClosed};

@@ -16,6 +16,10 @@ struct MotionModuleOptions {
   std::size_t imu_ring_capacity = 2048;
   /// Depth-frame timestamp events held for the camera side [events], >= 1. 256 at 30–60 Hz is 4–8 s.
   std::size_t frame_event_ring_capacity = 256;
+  /// Raw transfers kept for a recorder [transfers], 0 = none kept (rawTransferRing() then stays empty). 512 at the
+  /// module's ≈100 transfers/s is ≈5 s; a recorder further behind loses them as overruns (counted).
+  std::size_t raw_transfer_ring_capacity = 0;
+  static constexpr std::size_t kMaxRawTransferRingCapacity = 1 << 16;  ///< 64 MiB of 1 KiB transfers
   /// Interrupt transfers kept in flight [transfers], [1, kMaxTransfersInFlight]. More than one, so the
   /// endpoint is polled again while a completed transfer is being decoded (none is lost between them).
   std::size_t transfers_in_flight = 4;

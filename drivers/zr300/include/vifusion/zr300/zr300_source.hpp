@@ -72,6 +72,9 @@ class Zr300Source final : public datasets::DatasetReader {
   ImuFeed* imuFeed() { return imu_feed_ ? &*imu_feed_ : nullptr; }
   const LiveImuFeed* liveImuFeed() const { return imu_feed_ ? &*imu_feed_ : nullptr; }
   Zr300Stats stats() const;
+  /// The motion module's transfers as received, for a recorder (consumer thread); nullptr without the IMU. Empty
+  /// unless options.motion.raw_transfer_ring_capacity > 0. The same ring across unplug and re-open.
+  SpscRing<usb_imu::RawTransfer>* rawTransferRing() { return motion_ ? &motion_->rawTransferRing() : nullptr; }
   /// Samples waiting in the motion module's IMU ring, and its capacity (0, 0 without the IMU); any thread.
   std::size_t imuRingFill() const { return motion_ ? motion_->imuRing().size() : 0; }
   std::size_t imuRingCapacity() const { return motion_ ? motion_->imuRing().capacity() : 0; }

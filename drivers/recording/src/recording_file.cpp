@@ -5,6 +5,7 @@
 
 #include "vifusion/core/error.hpp"
 #include "vifusion/datasets/kalibr.hpp"
+#include "vifusion/motion/packet_format.hpp"
 #include "vifusion/recording/topics.hpp"
 #include "vifusion/ros2_msgs/cdr_encoding.hpp"
 #include "vifusion/ros2_msgs/conversions.hpp"
@@ -32,9 +33,9 @@ std::uint16_t schemaFor(mcap::McapWriter& writer) {
 /// One channel and its message counter per topic.
 struct RecordingFile::Channels {
   std::uint16_t info = 0, colour_info = 0, depth_info = 0, tf_static = 0, stamps = 0, depth = 0, colour = 0, imu = 0,
-                edges = 0, clock = 0, ground_truth = 0;
+                edges = 0, clock = 0, ground_truth = 0, motion = 0;
   std::uint32_t info_seq = 0, colour_info_seq = 0, depth_info_seq = 0, tf_static_seq = 0, stamps_seq = 0, depth_seq = 0,
-                colour_seq = 0, imu_seq = 0, edges_seq = 0, clock_seq = 0, ground_truth_seq = 0;
+                colour_seq = 0, imu_seq = 0, edges_seq = 0, clock_seq = 0, ground_truth_seq = 0, motion_seq = 0;
 };
 
 RecordingFile::RecordingFile(const mcap::McapWriterOptions& options)
@@ -90,6 +91,7 @@ bool RecordingFile::open(const std::filesystem::path& path, const RecordingHeade
   const std::uint16_t edge_schema = schemaFor<SyncEdge>(writer_);
   const std::uint16_t clock_schema = schemaFor<ClockMapping>(writer_);
   const std::uint16_t transform_schema = schemaFor<TransformStamped>(writer_);
+  const std::uint16_t packet_schema = schemaFor<MotionPacket>(writer_);
   const auto channel = [&](std::string_view topic, std::uint16_t schema) {
     return writer_.registerChannel(topic, schema, kMcapMessageEncoding);
   };
@@ -105,6 +107,7 @@ bool RecordingFile::open(const std::filesystem::path& path, const RecordingHeade
   c.edges = channel(kTopicSyncEdges, edge_schema);
   c.clock = channel(kTopicClock, clock_schema);
   c.ground_truth = channel(kTopicGroundTruth, transform_schema);
+  c.motion = channel(kTopicMotionPackets, packet_schema);
   if (writer_.failed()) return false;
 
   const std::string yaml = datasets::calibrationYamlText(calibration);
@@ -216,6 +219,23 @@ bool RecordingFile::writeClock(const ClockRecord& clock, std::int64_t log_time_n
     return ok;
   } catch (const std::exception& error) {
     fail("clock mapping", error);
+    return false;
+  }
+}
+
+bool RecordingFile::writeMotionTransfer(std::int64_t host_receive_ns, std::uint32_t transfer_index,
+                                        std::span<const std::uint8_t> bytes, std::int64_t log_time_ns) {
+  try {
+    const Header header = makeHeader(host_receive_ns, kFrameMotionModule);
+    // Whole packets only: a short transfer's tail (counted by the driver) carries no complete packet.
+    for (std::size_t at = 0; at + motion::kPacketBytes <= bytes.size(); at += motion::kPacketBytes) {
+      const MotionPacket packet{header, bytes.subspan(at, motion::kPacketBytes), transfer_index};
+      if (!put(channels_->motion, channels_->motion_seq, packet, log_time_ns, host_receive_ns)) return false;
+      ++counts_.motion_packets;
+    }
+    return true;
+  } catch (const std::exception& error) {
+    fail("motion transfer", error);
     return false;
   }
 }

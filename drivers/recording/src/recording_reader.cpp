@@ -1,5 +1,6 @@
 #include "vifusion/recording/recording_reader.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <exception>
 #include <string_view>
@@ -43,7 +44,8 @@ Message decode(const mcap::McapReader& reader, const mcap::MessageView& message,
 
 /// Copies an image message's pixels into `out` (resized when its size differs), checking the encoding.
 template <class Pixel>
-void copyImage(const ros2_msgs::ImageView& image, std::string_view encoding, const std::string& what, Image<Pixel>& out) {
+void copyImage(const ros2_msgs::ImageView& image, std::string_view encoding, const std::string& what,
+               Image<Pixel>& out) {
   if (image.encoding != encoding || image.step != image.width * sizeof(Pixel)) {
     throw Error(what + ": encoding '" + std::string(image.encoding) + "' with a step of " + std::to_string(image.step) +
                 " bytes, expected " + std::string(encoding) + " with " + std::to_string(image.width * sizeof(Pixel)));
@@ -70,6 +72,7 @@ void RecordingReader::scan(mcap::McapReader& reader) {
   const std::uint16_t edges = channelId(reader, kTopicSyncEdges);
   const std::uint16_t clock = channelId(reader, kTopicClock);
   const std::uint16_t truth = channelId(reader, kTopicGroundTruth);
+  const std::uint16_t packets = channelId(reader, kTopicMotionPackets);
   stamps_channel_ = channelId(reader, kTopicFrameStamps);
   depth_channel_ = channelId(reader, kTopicDepth);
   colour_channel_ = channelId(reader, kTopicColour);
@@ -130,6 +133,17 @@ void RecordingReader::scan(mcap::McapReader& reader) {
       const ClockMapping mapping = decode<ClockMapping>(reader, message, kTopicClock);
       clocks_.push_back({mapping.header.stamp.toNs(), static_cast<std::uint8_t>(mapping.state), mapping.ref_device_ns,
                          mapping.ref_host_ns, mapping.skew});
+    } else if (id == packets) {
+      const MotionPacket packet = decode<MotionPacket>(reader, message, kTopicMotionPackets);
+      if (packet.data.size() != motion::kPacketBytes) {
+        throw Error(reader.name() + ": " + std::string(kTopicMotionPackets) + " message " +
+                    std::to_string(message.sequence) + ": " + std::to_string(packet.data.size()) + " bytes, not " +
+                    std::to_string(motion::kPacketBytes));
+      }
+      RecordedMotionPacket& kept = packets_.emplace_back();
+      kept.host_receive_ns = packet.header.stamp.toNs();
+      kept.transfer_index = packet.transfer_index;
+      std::copy(packet.data.begin(), packet.data.end(), kept.bytes.begin());
     } else if (id == truth) {
       const TransformStamped pose = decode<TransformStamped>(reader, message, kTopicGroundTruth);
       ground_truth_.push_back({pose.header.stamp.toNs(), se3FromTransform(pose.transform)});

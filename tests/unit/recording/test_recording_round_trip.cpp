@@ -40,6 +40,10 @@ void writeRecording(const std::filesystem::path& path) {
         file.writeGroundTruthPose(frame.t_ns, SE3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(k, 0, 0)), 1));
   }
   for (; imu < kImuSamples; ++imu) ASSERT_TRUE(file.writeImu(makeImu(imu), 1));
+  // A transfer of two packets and a short tail (which carries no whole packet and is not kept).
+  std::vector<std::uint8_t> transfer(2 * motion::kPacketBytes + 10);
+  for (std::size_t i = 0; i < transfer.size(); ++i) transfer[i] = static_cast<std::uint8_t>(i * 7);
+  ASSERT_TRUE(file.writeMotionTransfer(kStartNs + 123, 42, transfer, 1));
   ASSERT_TRUE(file.close()) << file.error();
   EXPECT_EQ(file.counts().frames, static_cast<std::uint64_t>(kFrames));
 }
@@ -72,6 +76,10 @@ TEST(RecordingRoundTrip, EverythingWrittenReadsBackBitForBit) {
   ASSERT_EQ(reader.clockRecords().size(), static_cast<std::size_t>(kFrames));
   EXPECT_EQ(reader.clockRecords()[5].ref_host_ns, makeClock(5).ref_host_ns);
   EXPECT_EQ(reader.clockRecords()[5].skew, makeClock(5).skew);
+  ASSERT_EQ(reader.motionPackets().size(), 2u);
+  EXPECT_EQ(reader.motionPackets()[1].host_receive_ns, kStartNs + 123);
+  EXPECT_EQ(reader.motionPackets()[1].transfer_index, 42u);
+  EXPECT_EQ(reader.motionPackets()[1].bytes[0], static_cast<std::uint8_t>(motion::kPacketBytes * 7));
   ASSERT_EQ(reader.groundTruth().size(), static_cast<std::size_t>(kFrames));
   EXPECT_EQ(reader.groundTruth()[7].T_world_body.translation().x(), 7.0);
 

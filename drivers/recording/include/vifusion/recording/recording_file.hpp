@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "vifusion/core/rig_calibration.hpp"
@@ -46,6 +47,7 @@ struct RecordingCounts {
   std::uint64_t imu_samples = 0;
   std::uint64_t sync_edges = 0;
   std::uint64_t clock_records = 0;
+  std::uint64_t motion_packets = 0;
   std::uint64_t ground_truth_poses = 0;
 };
 
@@ -66,6 +68,9 @@ class RecordingFile {
   bool writeImu(const ImuSample& sample, std::int64_t log_time_ns);
   bool writeSyncEdge(std::int64_t t_ns, bool rising, std::uint64_t sequence, std::int64_t log_time_ns);
   bool writeClock(const ClockRecord& clock, std::int64_t log_time_ns);
+  /// One motion-module transfer as received at `host_receive_ns`: each of its packets becomes a message.
+  bool writeMotionTransfer(std::int64_t host_receive_ns, std::uint32_t transfer_index,
+                           std::span<const std::uint8_t> bytes, std::int64_t log_time_ns);
   /// The simulator's true camera pose T_world_camera at a frame.
   bool writeGroundTruthPose(std::int64_t t_ns, const SE3d& T_W_C, std::int64_t log_time_ns);
 

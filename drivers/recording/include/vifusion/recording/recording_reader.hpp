@@ -12,6 +12,7 @@
 // Frames and IMU samples come out bit for bit as they were recorded: the replay of a live run sees what
 // the live run saw.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "vifusion/datasets/dataset_reader.hpp"
+#include "vifusion/motion/packet_format.hpp"
 #include "vifusion/recording/recording_file.hpp"
 
 namespace vifusion::mcap {
@@ -34,6 +36,13 @@ struct RecordedSyncEdge {
   std::int64_t t_ns = 0;
   bool rising = true;
   std::uint64_t sequence = 0;
+};
+
+/// One motion-module packet as recorded: the bytes as they came off the bus, and when.
+struct RecordedMotionPacket {
+  std::int64_t host_receive_ns = 0;  ///< arrival of its transfer, host CLOCK_MONOTONIC [ns]
+  std::uint32_t transfer_index = 0;  ///< the transfer it came in (packets of one transfer share it)
+  std::array<std::uint8_t, motion::kPacketBytes> bytes{};
 };
 
 class RecordingReader final : public datasets::DatasetReader {
@@ -65,6 +74,7 @@ class RecordingReader final : public datasets::DatasetReader {
   std::span<const FrameStampsRecord> frameStamps() const { return stamps_; }
   std::span<const RecordedSyncEdge> syncEdges() const { return edges_; }
   std::span<const ClockRecord> clockRecords() const { return clocks_; }
+  std::span<const RecordedMotionPacket> motionPackets() const { return packets_; }
   /// Frames skipped because a part (stamps, depth or colour) was missing or out of order.
   std::size_t incompleteFrames() const { return incomplete_frames_; }
 
@@ -81,6 +91,7 @@ class RecordingReader final : public datasets::DatasetReader {
   std::vector<FrameStampsRecord> stamps_;
   std::vector<RecordedSyncEdge> edges_;
   std::vector<ClockRecord> clocks_;
+  std::vector<RecordedMotionPacket> packets_;
   std::size_t next_frame_ = 0;
   std::size_t incomplete_frames_ = 0;
   std::uint16_t depth_channel_ = 0, colour_channel_ = 0, stamps_channel_ = 0;

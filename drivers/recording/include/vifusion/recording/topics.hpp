@@ -14,6 +14,8 @@
 //   /camera/imu                    sensor_msgs/Imu               per IMU sample (gyro and accel merged), in S
 //   /vifusion/sync_edges           vifusion_msgs/SyncEdge        per sync-line edge
 //   /vifusion/clock                vifusion_msgs/ClockMapping    per frame: the device→host mapping in use
+//   /vifusion/motion_packets       vifusion_msgs/MotionPacket    per motion-module packet as received: every IMU
+//                                                                sample's device ticks and counters
 //   /ground_truth/camera_pose      geometry_msgs/TransformStamped simulator only: T_world_camera per frame
 // The calibration YAML is also an attachment, calibration.yaml, for tools that read attachments.
 
@@ -31,6 +33,7 @@ inline constexpr std::string_view kTopicColour = "/camera/color/image_raw";
 inline constexpr std::string_view kTopicImu = "/camera/imu";
 inline constexpr std::string_view kTopicSyncEdges = "/vifusion/sync_edges";
 inline constexpr std::string_view kTopicClock = "/vifusion/clock";
+inline constexpr std::string_view kTopicMotionPackets = "/vifusion/motion_packets";
 inline constexpr std::string_view kTopicGroundTruth = "/ground_truth/camera_pose";
 
 /// Frame ids (ROS optical frames: x right, y down, z forward, as the pipeline's C and D).
@@ -39,6 +42,7 @@ inline constexpr std::string_view kFrameDepth = "camera_depth_optical_frame";
 inline constexpr std::string_view kFrameImu = "camera_imu_frame";
 inline constexpr std::string_view kFrameWorld = "world";
 inline constexpr std::string_view kFrameSyncLine = "sync_line";
+inline constexpr std::string_view kFrameMotionModule = "zr300_motion_module";
 
 /// ClockMapping.device of the ZR300's motion module clock.
 inline constexpr std::string_view kMotionClock = "zr300_motion";

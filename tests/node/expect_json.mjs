@@ -2,14 +2,30 @@
 // strings and booleans must be identical (no tolerance: the writer printed doubles with 17 digits).
 // Prints every difference with its path and exits 1 if there is any.
 //
-// Usage: node expect_json.mjs EXPECTED.json ACTUAL.json
+// Usage: node expect_json.mjs EXPECTED.json ACTUAL.json [--tolerance PATH=ABS]...
+//
+// --tolerance lets numbers whose path starts with PATH (e.g. '$.ground_truth') differ by up to ABS, for
+// values that EXPECTED.json only has rounded (a text file's fixed decimals); the largest difference seen is
+// printed. Everything else stays exact.
 
 import { readFileSync } from "node:fs";
 
-const [expectedPath, actualPath] = process.argv.slice(2);
+const usage = "usage: node expect_json.mjs EXPECTED.json ACTUAL.json [--tolerance PATH=ABS]...";
+const [expectedPath, actualPath, ...options] = process.argv.slice(2);
 if (actualPath === undefined) {
-  console.error("usage: node expect_json.mjs EXPECTED.json ACTUAL.json");
+  console.error(usage);
   process.exit(2);
+}
+const tolerances = [];
+for (let i = 0; i < options.length; ++i) {
+  const match = options[i] === "--tolerance" ? /^(.+)=(.+)$/.exec(options[i + 1] ?? "") : null;
+  const absolute = match ? Number(match[2]) : NaN;
+  if (!(absolute >= 0)) {
+    console.error(usage);
+    process.exit(2);
+  }
+  tolerances.push({ prefix: match[1], absolute, compared: 0, largest: 0 });
+  ++i;
 }
 const expected = JSON.parse(readFileSync(expectedPath, "utf8"));
 const actual = JSON.parse(readFileSync(actualPath, "utf8"));
@@ -46,6 +62,16 @@ function compare(want, got, where) {
     return;
   }
   ++compared;
+  const tolerance = kind(want) === "number" ? tolerances.find((t) => where.startsWith(t.prefix)) : undefined;
+  if (tolerance) {
+    const difference = Math.abs(want - got);
+    ++tolerance.compared;
+    tolerance.largest = Math.max(tolerance.largest, difference);
+    if (!(difference <= tolerance.absolute)) {
+      differences.push(`${where}: expected ${want} within ${tolerance.absolute}, got ${got} (off by ${difference})`);
+    }
+    return;
+  }
   if (want !== got) differences.push(`${where}: expected ${JSON.stringify(want)}, got ${JSON.stringify(got)}`);
 }
 
@@ -55,4 +81,5 @@ if (differences.length > 0) {
   for (const difference of differences) console.error(`  ${difference}`);
   process.exit(1);
 }
-console.log(`${Object.keys(expected).length} messages, ${compared} values agree`);
+const within = tolerances.map((t) => `, ${t.compared} of them under ${t.prefix} within ${t.absolute} (largest difference ${t.largest})`);
+console.log(`${Object.keys(expected).length} messages, ${compared} values agree${within.join("")}`);

@@ -46,6 +46,7 @@ const kSchemaOfTopic = new Map([
   ["/camera/imu", "sensor_msgs/msg/Imu"],
   ["/vifusion/sync_edges", "vifusion_msgs/msg/SyncEdge"],
   ["/vifusion/clock", "vifusion_msgs/msg/ClockMapping"],
+  ["/vifusion/motion_packets", "vifusion_msgs/msg/MotionPacket"],
   ["/ground_truth/camera_pose", "geometry_msgs/msg/TransformStamped"],
 ]);
 const kOnceTopics = ["/vifusion/recording_info", "/camera/color/camera_info", "/camera/depth/camera_info", "/tf_static"];

@@ -200,6 +200,7 @@ class ScriptedCamera::SyncedIo final : public v4l2::DeviceIo {
   int poll(pollfd* fds, nfds_t count, int timeout_ms) override {
     const int ready = inner_.poll(fds, count, timeout_ms);
     camera_.waitForMotionCatchUp();
+    if (camera_.script_.after_poll) camera_.script_.after_poll(camera_.clock_.nowNs());
     return ready;
   }
 
@@ -240,12 +241,19 @@ ScriptedCamera::ScriptedCamera(CameraScript script)
   const auto stampOf = [this](std::int64_t k) {
     return floorToUs(script_.frame_t_ns[static_cast<std::size_t>(k)] - kKernelStampBeforeEventNs);
   };
+  const auto lost = [this](std::int64_t k) {
+    return std::find(script_.lost_frames.begin(), script_.lost_frames.end(), k) != script_.lost_frames.end();
+  };
   v4l2_scripted::ScriptedNodeConfig depth;
   depth.path = kDepthNode;
   depth.formats = {{v4l2::kFourccZ16, inner_width, inner_height + 1, 0, {script_.preset.fps}}};
   depth.schedule = {script_.frame_t_ns.front() + kArrivalDelayNs, period_ns, frame_count,
-                    [this, inner_width, inner_height, stampOf](const v4l2_scripted::ScriptedFrameRequest& request,
-                                                               v4l2_scripted::ScriptedFrame& frame) {
+                    [this, inner_width, inner_height, stampOf, lost](const v4l2_scripted::ScriptedFrameRequest& request,
+                                                                     v4l2_scripted::ScriptedFrame& frame) {
+                      if (lost(request.frame_index)) {
+                        frame.lost = true;
+                        return;
+                      }
                       const std::int64_t cpu_start_ns = currentThreadCpuTimeNs();
                       const std::uint32_t line = request.format.bytesperline;
                       auto* pixels = reinterpret_cast<std::uint16_t*>(request.payload.data());
@@ -265,8 +273,12 @@ ScriptedCamera::ScriptedCamera(CameraScript script)
   colour.path = kColourNode;
   colour.formats = {{v4l2::kFourccYuyv, width, height, 0, {script_.preset.fps}}};
   colour.schedule = {script_.frame_t_ns.front() + kArrivalDelayNs, period_ns, frame_count,
-                     [this, scratch, width, height, stampOf](const v4l2_scripted::ScriptedFrameRequest& request,
-                                                             v4l2_scripted::ScriptedFrame& frame) {
+                     [this, scratch, width, height, stampOf, lost](const v4l2_scripted::ScriptedFrameRequest& request,
+                                                                   v4l2_scripted::ScriptedFrame& frame) {
+                       if (lost(request.frame_index)) {
+                         frame.lost = true;
+                         return;
+                       }
                        const std::int64_t cpu_start_ns = currentThreadCpuTimeNs();
                        script_.colour(static_cast<int>(request.frame_index), scratch->view());
                        rgbToYuyv(scratch->view(), request.payload, request.format.bytesperline);

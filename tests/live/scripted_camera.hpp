@@ -58,6 +58,13 @@ struct CameraScript {
   std::vector<RawImu> imu;                   ///< strictly increasing times, whole µs, ending after the last frame
   std::optional<std::int64_t> unplug_at_ns;  ///< the camera vanishes (both USB devices) at this host time
   std::optional<std::int64_t> replug_at_ns;  ///< and comes back at this one
+  /// Frames lost before the host, depth and colour both (V4L2 sequence and DS4 counter skip them); their
+  /// motion-module events still come, as when a USB transfer of the images fails.
+  std::vector<int> lost_frames;
+  /// Called on the polling thread with the clock's time after every poll of a V4L2 node (after the motion
+  /// module caught up): another scripted device on the same clock (a sync line) catches up here, before any
+  /// frame of that moment is dequeued. Empty: none.
+  std::function<void(std::int64_t now_ns)> after_poll;
 };
 
 /// First DS4 frame counter: not 0, and past 4096, so the 12-bit event numbers wrap during a run.

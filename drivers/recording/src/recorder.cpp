@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/thread_cpu_time.hpp"
 #include "vifusion/core/time.hpp"
 
 namespace vifusion::recording {
@@ -122,6 +123,7 @@ void Recorder::run() {
       snapshot_.written = file_.counts();
       snapshot_.bytes_written = file_.bytesWritten();
       snapshot_.messages_in_chunks = file_.messagesWritten();
+      snapshot_.thread_cpu_ns = currentThreadCpuTimeNs();
     }
     if (!any) std::this_thread::sleep_for(std::chrono::nanoseconds(options_.idle_wait_ns));
   }

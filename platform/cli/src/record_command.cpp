@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <thread>
+#include <utility>
 
 #include "run_source.hpp"
 #include "sync_line_spec.hpp"
@@ -53,7 +54,8 @@ void sleepUntilNs(std::int64_t until_ns) {
 
 }  // namespace
 
-int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend> backend) {
+int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend> backend,
+              std::unique_ptr<gpio_sync::GpioLineIo> line_io) {
   if (!options.recover.empty()) return recover(options);
   if (options.out.empty()) throw Error("--out FILE.mcap is required");
   if (std::filesystem::exists(options.out)) throw Error(options.out + ": already exists; choose another --out");
@@ -72,7 +74,7 @@ int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend>
   std::unique_ptr<gpio_sync::SyncLine> sync_line;
   if (!options.gpio.empty()) {
     try {
-      sync_line = openSyncLineSpec(options.gpio, options.edges);
+      sync_line = openSyncLineSpec(options.gpio, options.edges, std::move(line_io));
     } catch (const std::exception& error) {
       std::fprintf(stderr, "vifusion record: %s\n", error.what());
       return config::kExitSource;

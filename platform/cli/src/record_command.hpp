@@ -13,6 +13,8 @@
 #include <memory>
 #include <string>
 
+#include "vifusion/gpio_sync/gpio_line_io.hpp"
+
 namespace vifusion::zr300 {
 class Zr300Backend;
 }
@@ -31,7 +33,10 @@ struct RecordOptions {
   std::string recover;           ///< a cut recording to rewrite complete (into --out, or FILE.recovered.mcap)
 };
 
-int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend> backend);
+/// `backend` reaches the camera (null: the real devices); `line_io`, when given, is the --gpio line instead
+/// of the chip libgpiod opens (a scripted line in tests).
+int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend> backend,
+              std::unique_ptr<gpio_sync::GpioLineIo> line_io = nullptr);
 /// The same on the real devices.
 int runRecord(const RecordOptions& options);
 

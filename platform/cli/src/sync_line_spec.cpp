@@ -1,6 +1,7 @@
 #include "sync_line_spec.hpp"
 
 #include <charconv>
+#include <utility>
 
 #include "vifusion/core/error.hpp"
 #include "vifusion/gpio_sync/edge_detection.hpp"
@@ -10,7 +11,8 @@
 
 namespace vifusion::cli {
 
-std::unique_ptr<gpio_sync::SyncLine> openSyncLineSpec(const std::string& spec, const std::string& edges) {
+std::unique_ptr<gpio_sync::SyncLine> openSyncLineSpec(const std::string& spec, const std::string& edges,
+                                                      std::unique_ptr<gpio_sync::GpioLineIo> io) {
   const std::size_t colon = spec.rfind(':');
   int line = -1;
   const char* first = spec.data() + (colon == std::string::npos ? spec.size() : colon + 1);
@@ -27,12 +29,13 @@ std::unique_ptr<gpio_sync::SyncLine> openSyncLineSpec(const std::string& spec, c
   options.edges = *detection;
   options.validate();
 #if VIFUSION_GPIO_SYNC_HAVE_LIBGPIOD
-  auto sync_line = std::make_unique<gpio_sync::SyncLine>(std::make_unique<gpio_sync::LibgpiodLineIo>(), options);
+  if (!io) io = std::make_unique<gpio_sync::LibgpiodLineIo>();
+#else
+  if (!io) throw Error("--gpio '" + spec + "': this vifusion was built without libgpiod (libgpiod-dev < 2)");
+#endif
+  auto sync_line = std::make_unique<gpio_sync::SyncLine>(std::move(io), options);
   sync_line->start();
   return sync_line;
-#else
-  throw Error("--gpio '" + spec + "': this vifusion was built without libgpiod (libgpiod-dev < 2)");
-#endif
 }
 
 }  // namespace vifusion::cli

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <utility>
 
 #include "run_source.hpp"
 #include "sync_line_spec.hpp"
@@ -47,7 +48,7 @@ synccheck::SyncInput fromRecording(const std::string& path) {
 
 /// The live camera's and sync line's times over `duration_s`; false when they cannot be opened (printed).
 bool fromLive(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr300Backend> backend,
-              synccheck::SyncInput& input) {
+              std::unique_ptr<gpio_sync::GpioLineIo> line_io, synccheck::SyncInput& input) {
   RunSource source;
   if (!openRunSource({options.source, options.calibration, "", true}, kCommand, std::move(backend), source))
     return false;
@@ -56,7 +57,7 @@ bool fromLive(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr3
   std::unique_ptr<gpio_sync::SyncLine> sync_line;
   if (!options.gpio.empty()) {
     try {
-      sync_line = openSyncLineSpec(options.gpio, options.edges);
+      sync_line = openSyncLineSpec(options.gpio, options.edges, std::move(line_io));
     } catch (const std::exception& error) {
       std::fprintf(stderr, "%s: %s\n", kCommand, error.what());
       return false;
@@ -92,7 +93,8 @@ bool fromLive(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr3
 
 }  // namespace
 
-int runSyncCheck(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr300Backend> backend) {
+int runSyncCheck(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr300Backend> backend,
+                 std::unique_ptr<gpio_sync::GpioLineIo> line_io) {
   options.check.validate();
   synccheck::SyncInput input;
   if (options.simulate) {
@@ -102,7 +104,7 @@ int runSyncCheck(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::
     input = fromRecording(options.source.substr(4));
   } else {
     if (!(options.duration_s > 0.0)) throw Error("--duration must be > 0 s");
-    if (!fromLive(options, std::move(backend), input)) return config::kExitSource;
+    if (!fromLive(options, std::move(backend), std::move(line_io), input)) return config::kExitSource;
   }
   const synccheck::SyncReport report = synccheck::analyse(input, options.check);
   std::printf("%s\n", report.toJson().c_str());

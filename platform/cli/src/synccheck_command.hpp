@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "vifusion/gpio_sync/gpio_line_io.hpp"
 #include "vifusion/synccheck/clock_model.hpp"
 #include "vifusion/synccheck/sync_check_options.hpp"
 
@@ -32,7 +33,10 @@ struct SyncCheckCommandOptions {
   std::string plot;  ///< PNG of the offsets over time; empty: none
 };
 
-int runSyncCheck(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr300Backend> backend);
+/// `backend` reaches the camera (null: the real devices); `line_io`, when given, is the --gpio line instead
+/// of the chip libgpiod opens (a scripted line in tests; the spec's chip and line are still what it opens).
+int runSyncCheck(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr300Backend> backend,
+                 std::unique_ptr<gpio_sync::GpioLineIo> line_io = nullptr);
 /// The same on the real devices.
 int runSyncCheck(const SyncCheckCommandOptions& options);
 

@@ -54,6 +54,9 @@ struct RecorderStats {
   std::uint64_t clocks_dropped = 0;
   std::uint64_t bytes_written = 0;       ///< file size so far
   std::uint64_t messages_in_chunks = 0;  ///< messages a reader finds if the recording stops now
+  /// CPU time the recorder's thread has used [ns], as of its latest pass (serialising, writing, fdatasync
+  /// calls; the final drain and close in stop() run on the caller's thread and are not in it).
+  std::int64_t thread_cpu_ns = 0;
 };
 
 class Recorder {

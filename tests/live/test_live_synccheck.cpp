@@ -22,12 +22,14 @@
 #include <sstream>
 #include <thread>
 
+#include "record_command.hpp"
 #include "scripted_camera.hpp"
 #include "synccheck_command.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/time.hpp"
 #include "vifusion/datasets/kalibr.hpp"
 #include "vifusion/gpio_sync/scripted_line_io.hpp"
+#include "vifusion/recording/recording_reader.hpp"
 
 namespace vifusion::live_test {
 namespace {
@@ -273,6 +275,12 @@ TEST(LiveSyncCheck, ScriptedStrobeIsPairedWithEveryFrameAtItsOffset) {
   EXPECT_NEAR(number(imu["largest_gap_ns"]), kImuPeriodNs, kOffsetToleranceNs);
   EXPECT_GE(imu["samples"].get<std::size_t>(), static_cast<std::size_t>(kCheckSeconds * kImuRateHz));
 
+  // The clock mapper's residuals, from the motion module's transfers as received: the scripted transfers arrive
+  // at their samples' device times exactly (no USB latency), so what remains is the 32 MHz tick's rounding.
+  const nlohmann::json& clock_mapper = r["clock_mapper"];
+  EXPECT_GE(clock_mapper["samples"].get<std::size_t>(), 100u) << "residuals once the mapping is valid (after 2 s)";
+  EXPECT_LE(number(clock_mapper["residual_max_abs_ns"]), 1000.0);
+
   EXPECT_GT(std::filesystem::file_size(std::filesystem::path(VIFUSION_LIVE_SYNCCHECK_DIR) / "pass" / "offsets.png"),
             0u);
 
@@ -300,6 +308,73 @@ TEST(LiveSyncCheck, OffsetLimitBelowTheStrobeLeadFailsOnlyTheOffsetCheck) {
   ASSERT_NE(offset, r["checks"].end());
   EXPECT_NEAR(number((*offset)["value"]), kStrobeLeadNs, 2'000.0);
   EXPECT_EQ(number((*offset)["limit"]), kLimitNs);
+}
+
+// `vifusion record --source zr300 --gpio …` on the same scripted camera and strobe, then `vifusion synccheck` on
+// the recording: every stream of the live run is in the file (frames with their device stamps, IMU, the motion
+// module's transfers, the clock mapping per frame, the strobe's edges), and the check on the recording finds
+// what the live check found.
+TEST(LiveSyncCheck, ARecordingOfTheScriptedCameraChecksLikeTheLiveRun) {
+  const std::filesystem::path work = std::filesystem::path(VIFUSION_LIVE_SYNCCHECK_DIR) / "record";
+  std::filesystem::remove_all(work);
+  std::filesystem::create_directories(work);
+  CameraScript script = strobedScript();
+  RigCalibration calibration;
+  calibration.camera =
+      PinholeCamera::create(script.preset.width_px, script.preset.height_px, 270.0, 270.0, 159.5, 119.5);
+  calibration.depth_camera = DepthCameraCalibration{calibration.camera, SE3d()};
+  datasets::writeCalibrationYaml(work / "calibration.yaml", calibration);
+  std::vector<std::int64_t> edge_t_ns;
+  for (const std::int64_t t_ns : script.frame_t_ns) edge_t_ns.push_back(t_ns - kStrobeLeadNs);
+  auto strobe = std::make_shared<Strobe>(std::move(edge_t_ns));
+  script.after_poll = [strobe](std::int64_t now_ns) { strobe->catchUp(now_ns); };
+
+  cli::RecordOptions record;
+  record.source = "zr300";
+  record.calibration = (work / "calibration.yaml").string();
+  record.mode = "rgbdi";
+  record.out = (work / "scripted.mcap").string();
+  record.duration_s = kCheckSeconds;
+  record.gpio = std::string(kGpioChip) + ":" + std::to_string(kGpioLine);
+  int record_code = -1;
+  {
+    StdoutToFile capture(work / "record.json");
+    record_code = cli::runRecord(record, std::make_unique<ScriptedCamera>(std::move(script)),
+                                 std::make_unique<SharedLineIo>(strobe->line()));
+  }
+  ASSERT_EQ(record_code, 0);
+
+  const recording::RecordingReader reader(work / "scripted.mcap");
+  EXPECT_EQ(reader.note(), "");
+  const std::int64_t last = secondsToNs(kCheckSeconds) / (kFramePeriodNs / 1000 * 1000);
+  const std::size_t delivered = static_cast<std::size_t>(last + 1) - kLostFrames.size();
+  EXPECT_EQ(reader.frameCount(), delivered);
+  EXPECT_EQ(reader.clockRecords().size(), delivered);
+  EXPECT_GE(reader.syncEdges().size(), static_cast<std::size_t>(last + 1));
+  EXPECT_GE(reader.imu().size(), static_cast<std::size_t>((kCheckSeconds - 2.0) * kImuRateHz))
+      << "IMU after the clock mapping's 2 s warm-up";
+  EXPECT_GT(reader.motionPackets().size(), reader.imu().size() / 4) << "the transfers as received";
+  std::size_t event_stamped = 0;
+  for (const auto& frame : reader.frameStamps()) event_stamped += frame.timing.stamped_by_device_event ? 1 : 0;
+  EXPECT_EQ(event_stamped, delivered);
+
+  cli::SyncCheckCommandOptions check;
+  check.source = "rec:" + (work / "scripted.mcap").string();
+  int check_code = -1;
+  std::string text;
+  {
+    StdoutToFile capture(work / "synccheck.json");
+    check_code = cli::runSyncCheck(check);
+    text = capture.text();
+  }
+  const nlohmann::json r = nlohmann::json::parse(text);
+  EXPECT_EQ(check_code, 0) << r.dump(2);
+  EXPECT_EQ(r["frames"]["paired_with_edge"].get<std::size_t>(), delivered);
+  constexpr double kRecordedOffsetToleranceNs = 2'000.0;  // stamps exact to 1 µs, as live
+  EXPECT_NEAR(number(r["streams"]["frame_minus_edge"]["offset_median_ns"]), kStrobeLeadNs, kRecordedOffsetToleranceNs);
+  EXPECT_EQ(r["dropped"]["frame_number_gaps"].get<std::uint64_t>(), kLostFrames.size());
+  EXPECT_GE(r["clock_mapper"]["samples"].get<std::size_t>(), 100u);
+  EXPECT_LE(number(r["clock_mapper"]["residual_max_abs_ns"]), 1000.0);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "vifusion/recording/recorder.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "vifusion/core/error.hpp"
@@ -11,6 +12,7 @@ namespace {
 
 constexpr std::size_t kMaxFrameRing = 256;
 constexpr std::size_t kMaxSampleRing = std::size_t{1} << 20;
+constexpr std::size_t kMaxMotionRing = std::size_t{1} << 16;
 constexpr std::int64_t kMaxIdleWaitNs = 100 * kNsPerMillisecond;
 
 void checkRing(std::size_t value, std::size_t max, const char* field) {
@@ -36,6 +38,7 @@ void RecorderOptions::validate() const {
   checkRing(imu_ring, kMaxSampleRing, "imu_ring");
   checkRing(edge_ring, kMaxSampleRing, "edge_ring");
   checkRing(clock_ring, kMaxSampleRing, "clock_ring");
+  checkRing(motion_ring, kMaxMotionRing, "motion_ring");
   if (!(idle_wait_ns > 0 && idle_wait_ns <= kMaxIdleWaitNs)) {
     throw Error("recorder option 'idle_wait_ns' must be in (0, 100 ms], got " + std::to_string(idle_wait_ns));
   }
@@ -49,6 +52,7 @@ Recorder::Recorder(const std::filesystem::path& path, const RecordingHeader& hea
       frames_(options.frame_ring, framePrototype(header.calibration)),
       imu_(options.imu_ring),
       edges_(options.edge_ring),
+      motion_(options.motion_ring),
       clocks_(options.clock_ring) {
   if (!file_.open(path, header)) throw Error("cannot record to " + path.string() + ": " + file_.error());
   snapshot_.recording = true;
@@ -75,6 +79,19 @@ bool Recorder::pushSyncEdge(std::int64_t t_ns, bool rising, std::uint64_t sequen
   return false;
 }
 
+bool Recorder::pushMotionTransfer(std::int64_t host_receive_ns, std::uint32_t index,
+                                  std::span<const std::uint8_t> bytes) {
+  if (accepting_.load(std::memory_order_acquire)) {
+    motion_item_.host_receive_ns = host_receive_ns;
+    motion_item_.index = index;
+    motion_item_.size = std::min(bytes.size(), motion_item_.bytes.size());
+    std::copy_n(bytes.begin(), motion_item_.size, motion_item_.bytes.begin());
+    if (motion_.tryPush(motion_item_)) return true;
+  }
+  motion_lost_.fetch_add(1, std::memory_order_relaxed);
+  return false;
+}
+
 bool Recorder::pushClock(const ClockRecord& clock) {
   if (accepting_.load(std::memory_order_acquire) && clocks_.tryPush(clock)) return true;
   clocks_lost_.fetch_add(1, std::memory_order_relaxed);
@@ -98,6 +115,15 @@ bool Recorder::drain() {
   while (const ClockRecord* clock = clocks_.front()) {
     if (writing) file_.writeClock(*clock, monotonicNowNs());
     clocks_.pop();
+    any = true;
+  }
+  while (const MotionTransferItem* transfer = motion_.front()) {
+    if (writing) {
+      file_.writeMotionTransfer(transfer->host_receive_ns, transfer->index,
+                                std::span<const std::uint8_t>(transfer->bytes.data(), transfer->size),
+                                monotonicNowNs());
+    }
+    motion_.pop();
     any = true;
   }
   while (const RgbdFrame* frame = frames_.front()) {
@@ -157,6 +183,7 @@ RecorderStats Recorder::stats() const {
   copy.imu_dropped = imu_lost_.load(std::memory_order_relaxed);
   copy.edges_dropped = edges_lost_.load(std::memory_order_relaxed);
   copy.clocks_dropped = clocks_lost_.load(std::memory_order_relaxed);
+  copy.motion_dropped = motion_lost_.load(std::memory_order_relaxed);
   return copy;
 }
 

@@ -26,6 +26,8 @@ namespace vifusion::cli {
 namespace {
 
 constexpr std::int64_t kWaitStepNs = kNsPerMillisecond;
+/// Motion-module transfers kept between two frames for the recorder: ≈5 s of the module's ≈100 transfers/s.
+constexpr std::size_t kRawTransferRing = 512;
 /// Nominal camera rate of a recorded source, for the recording info (its frames keep their own times) [Hz].
 constexpr double kRecordedFrameRateHz = 30.0;
 
@@ -66,8 +68,8 @@ int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend>
   const bool inertial = options.mode != "rgbd";
   const std::filesystem::path out_dir = std::filesystem::absolute(options.out).parent_path();
   RunSource source;
-  if (!openRunSource({options.source, options.calibration, out_dir.string(), inertial}, "vifusion record",
-                     std::move(backend), source)) {
+  if (!openRunSource({options.source, options.calibration, out_dir.string(), inertial, kRawTransferRing},
+                     "vifusion record", std::move(backend), source)) {
     return config::kExitSource;
   }
   datasets::DatasetReader& reader = *source.reader;
@@ -126,6 +128,13 @@ int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend>
       clock.ref_device_ns = frame.t_ns - stats.motion.clock_offset_ns;
       clock.skew = stats.motion.clock_skew_ppm * 1e-6;
       recorder.pushClock(clock);
+      if (SpscRing<usb_imu::RawTransfer>* raw = source.camera->rawTransferRing()) {
+        while (const usb_imu::RawTransfer* transfer = raw->front()) {
+          recorder.pushMotionTransfer(transfer->host_receive_ns, transfer->index,
+                                      std::span<const std::uint8_t>(transfer->bytes.data(), transfer->size));
+          raw->pop();
+        }
+      }
     }
 #endif
     // A recorded source waits for the recorder (nothing lost); a camera does not wait (losses are counted).
@@ -137,7 +146,10 @@ int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend>
     if (recorder.stats().failed) break;
   }
   forgetSource();
-  if (sync_line) sync_line->stop();
+  if (sync_line) {
+    sync_line->stop();
+    while (sync_line->edgeRing().tryPop(edge)) recorder.pushSyncEdge(edge.t_ns, edge.rising, edge.sequence);
+  }
   const bool ok = recorder.stop();
   const recording::RecorderStats stats = recorder.stats();
   const double wall_s = nsToSeconds(monotonicNowNs() - start_ns);
@@ -148,6 +160,7 @@ int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend>
                                       {"sync_edges", stats.written.sync_edges},
                                       {"frames_dropped", stats.frames_dropped},
                                       {"imu_dropped", stats.imu_dropped},
+                                      {"motion_packets", stats.written.motion_packets},
                                       {"bytes", stats.bytes_written},
                                       {"wall_s", wall_s},
                                       {"mb_per_s", wall_s > 0 ? stats.bytes_written / wall_s / 1e6 : 0.0},

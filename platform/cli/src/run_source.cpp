@@ -53,6 +53,7 @@ bool openRunSource(const SourceRequest& request, const char* command, std::uniqu
   if (const std::optional<discovery::Zr300SourceSpec> spec = discovery::parseZr300SourceSpec(request.spec)) {
     zr300::Zr300Options live;
     live.imu = request.inertial;  // rgbd mode leaves the motion module alone: frames take their kernel times
+    live.motion.raw_transfer_ring_capacity = request.raw_transfers;
     std::unique_ptr<zr300::Zr300Source> camera;
     try {
       camera = zr300::openZr300(*spec, request.calibration, live, std::move(backend));

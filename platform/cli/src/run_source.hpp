@@ -26,6 +26,8 @@ struct SourceRequest {
   std::string calibration;  ///< zr300: the rig's calibration.yaml
   std::string out;          ///< where a sim:NAME sequence is generated (<out>/sim_NAME)
   bool inertial = false;    ///< the IMU is needed (zr300: the motion module is opened only then)
+  /// zr300: keep the motion module's transfers as received (Zr300Source::rawTransferRing()), this many at most.
+  std::size_t raw_transfers = 0;
 };
 
 /// A source's frames and their IMU samples: a recording hands every frame its whole IMU stream, the live

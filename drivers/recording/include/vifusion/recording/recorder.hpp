@@ -14,15 +14,18 @@
 // Threads: one producer thread per push function (each ring is single-producer), any thread for stats(),
 // the owner for stop().
 
+#include <array>
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <mutex>
+#include <span>
 #include <string>
 #include <thread>
 
 #include "vifusion/core/spsc_ring.hpp"
+#include "vifusion/motion/packet_format.hpp"
 #include "vifusion/recording/recording_file.hpp"
 
 namespace vifusion::recording {
@@ -34,6 +37,8 @@ struct RecorderOptions {
   std::size_t imu_ring = 4096;   ///< IMU samples waiting, [1, 1 << 20]: 20 s at 200 Hz
   std::size_t edge_ring = 1024;  ///< sync-line edges waiting, [1, 1 << 20]
   std::size_t clock_ring = 256;  ///< clock mappings waiting, [1, 1 << 20]
+  /// Motion-module transfers waiting, [1, 1 << 16]: 512 is ≈5 s of the module's ≈100 transfers/s (1 KiB each).
+  std::size_t motion_ring = 512;
   /// How long the recorder's thread sleeps when every ring is empty [ns], (0, 100 ms]: far below
   /// chunk_flush_ns, so chunks are written on time.
   std::int64_t idle_wait_ns = 2'000'000;
@@ -51,6 +56,7 @@ struct RecorderStats {
   std::uint64_t frames_dropped = 0;  ///< pushes refused because the ring was full or the recording had ended
   std::uint64_t imu_dropped = 0;
   std::uint64_t edges_dropped = 0;
+  std::uint64_t motion_dropped = 0;
   std::uint64_t clocks_dropped = 0;
   std::uint64_t bytes_written = 0;       ///< file size so far
   std::uint64_t messages_in_chunks = 0;  ///< messages a reader finds if the recording stops now
@@ -75,6 +81,8 @@ class Recorder {
   bool pushImu(const ImuSample& sample);
   bool pushSyncEdge(std::int64_t t_ns, bool rising, std::uint64_t sequence);
   bool pushClock(const ClockRecord& clock);
+  /// One motion-module transfer as received (bytes beyond motion::kMaxTransferBytes are not kept).
+  bool pushMotionTransfer(std::int64_t host_receive_ns, std::uint32_t index, std::span<const std::uint8_t> bytes);
 
   /// Writes what the rings hold, completes the file (summary) and ends the thread; idempotent.
   /// @return false when the recording failed at any point (stats().error says why).
@@ -83,6 +91,12 @@ class Recorder {
   const std::filesystem::path& path() const { return path_; }
 
  private:
+  struct MotionTransferItem {
+    std::int64_t host_receive_ns = 0;
+    std::uint32_t index = 0;
+    std::size_t size = 0;
+    std::array<std::uint8_t, motion::kMaxTransferBytes> bytes{};
+  };
   struct SyncEdgeItem {
     std::int64_t t_ns = 0;
     bool rising = true;
@@ -100,10 +114,12 @@ class Recorder {
   SpscRing<RgbdFrame> frames_;
   SpscRing<ImuSample> imu_;
   SpscRing<SyncEdgeItem> edges_;
+  SpscRing<MotionTransferItem> motion_;
+  MotionTransferItem motion_item_;  ///< the producer's staging slot
   SpscRing<ClockRecord> clocks_;
   std::atomic<bool> accepting_{true};  ///< false once stopped or failed: pushes are counted as lost
   std::atomic<bool> stop_{false};
-  std::atomic<std::uint64_t> frames_lost_{0}, imu_lost_{0}, edges_lost_{0}, clocks_lost_{0};
+  std::atomic<std::uint64_t> frames_lost_{0}, imu_lost_{0}, edges_lost_{0}, clocks_lost_{0}, motion_lost_{0};
   bool stopped_ = false;
   bool closed_ok_ = true;
   mutable std::mutex stats_mutex_;  ///< guards the snapshot below (the thread updates it after each drain)

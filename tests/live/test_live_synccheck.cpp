@@ -336,6 +336,9 @@ TEST(LiveSyncCheck, ARecordingOfTheScriptedCameraChecksLikeTheLiveRun) {
   record.out = (work / "scripted.mcap").string();
   record.duration_s = kCheckSeconds;
   record.gpio = std::string(kGpioChip) + ":" + std::to_string(kGpioLine);
+  // The scripted camera streams as fast as it is read, not at 30 Hz: a recorder slower than that (a loaded CI
+  // machine, fdatasync) would drop frames a real camera never outpaces. A ring for every frame keeps them all.
+  record.recorder.frame_ring = static_cast<std::size_t>(kScriptSeconds * 30.0) + 1;
   int record_code = -1;
   {
     StdoutToFile capture(work / "record.json");

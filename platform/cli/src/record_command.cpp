@@ -90,7 +90,7 @@ int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend>
   header.frame_rate_hz = kRecordedFrameRateHz;
   header.imu_rate_hz = source.imu != nullptr ? reader.calibration().imu.rate_hz : 0.0;
   header.t_ns = monotonicNowNs();
-  recording::Recorder recorder(options.out, header);
+  recording::Recorder recorder(options.out, header, options.recorder);
   watchInterrupts(source);
 
   const std::int64_t duration_ns = secondsToNs(options.duration_s);

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "vifusion/gpio_sync/gpio_line_io.hpp"
+#include "vifusion/recording/recorder.hpp"
 
 namespace vifusion::zr300 {
 class Zr300Backend;
@@ -31,6 +32,7 @@ struct RecordOptions {
   std::string gpio;              ///< CHIP:LINE of the sync line to record; empty: none
   std::string edges = "rising";  ///< the sync line's edges: rising, falling or both
   std::string recover;           ///< a cut recording to rewrite complete (into --out, or FILE.recovered.mcap)
+  recording::RecorderOptions recorder;  ///< ring sizes and MCAP settings (defaults; not on the command line)
 };
 
 /// `backend` reaches the camera (null: the real devices); `line_io`, when given, is the --gpio line instead

@@ -1,7 +1,9 @@
 #version 450
-// map_cleanup: one keep flag (1 keep, 0 remove) per surfel, the input of the compaction. A pure
-// function of the map, the index map and the frame number, checked in this order:
-//   1. INACTIVE (not updated within δ_t): always kept — they are the loop-closure memory — unless
+// map_cleanup: for each surfel of the visited range [active_begin, surfel_count) (map_state.glsl), a keep
+// flag (1: stays in the active range) and a retire flag (1: moves to the inactive prefix), both 0 when it
+// is removed: the inputs of the compaction. A pure function of the map, the index map and the frame
+// number, checked in this order:
+//   1. INACTIVE (not updated within δ_t): retired — they are the loop-closure memory — unless
 //      the map is full (surfel_count > full_count, 0.95·capacity) and the surfel's confidence is
 //      below eviction_confidence or it was last updated more than eviction_age_frames ago: then
 //      it is evicted (never-stable memory first, then the oldest; MapMaintenance sets the age).
@@ -16,14 +18,15 @@
 // Removals are counted with 32-bit atomicAdd; sums do not depend on the order.
 //
 // Bindings (set 0, std430):
-//   0  state        readonly   map state: surfel_count
+//   0  state        readonly   map state: surfel_count, active_begin
 //   1  params       readonly   CleanupParams (host-written per frame)
 //   2  surfels      readonly   Surfel[] of the current ping-pong array
 //   3  index_depth  readonly   uint[] floatBitsToUint of the nearest surfel's camera depth [m]
 //   4  index_id     readonly   uint[] surfel index + 1 of that surfel, 0 = none
-//   5  keep         writeonly  uint[] 1 keep / 0 remove, for i < surfel_count
+//   5  keep         writeonly  uint[] per visited surfel i, at i − active_begin: 1 stays active, else 0
 //   6  stats        atomic counters (zeroed before the dispatch)
-// Grid-stride over surfels. CPU reference: cleanupCpu.
+//   7  retire       writeonly  uint[] per visited surfel, at i − active_begin: 1 moves to the inactive prefix
+// Grid-stride over the visited range. CPU reference: cleanupCpu.
 #extension GL_GOOGLE_include_directive : require
 #include "map/surfel.glsl"
 #include "map/cleanup.glsl"
@@ -35,7 +38,7 @@ layout(set = 0, binding = 0, std430) restrict readonly buffer MapState {
   uint surfel_count;
   uint overflow_count;
   uint state_frame;
-  uint state_pad;
+  uint active_begin;
 } state;
 layout(set = 0, binding = 1, std430) restrict readonly buffer Params { CleanupParams params; };
 layout(set = 0, binding = 2, std430) restrict readonly buffer Surfels { Surfel surfels[]; };
@@ -43,6 +46,7 @@ layout(set = 0, binding = 3, std430) restrict readonly buffer IndexDepth { uint 
 layout(set = 0, binding = 4, std430) restrict readonly buffer IndexId { uint index_id[]; };
 layout(set = 0, binding = 5, std430) restrict writeonly buffer Keep { uint keep[]; };
 layout(set = 0, binding = 6, std430) restrict buffer Stats { VIFUSION_MAINTENANCE_STATS_MEMBERS } stats;
+layout(set = 0, binding = 7, std430) restrict writeonly buffer Retire { uint retire[]; };
 
 bool violatesFreeSpace(uint i, Surfel surfel, uint count, CleanupParams p) {
   const MapView view = p.view;
@@ -77,16 +81,21 @@ void main() {
   // Loaded once: the compiler may not hoist buffer loads across the atomics in the loop.
   const CleanupParams p = params;
   const uint count = state.surfel_count;
+  const uint begin = state.active_begin;
   const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  for (uint i = gl_GlobalInvocationID.x; i < count; i += stride) {
+  for (uint i = begin + gl_GlobalInvocationID.x; i < count; i += stride) {
     const Surfel surfel = surfels[i];
     const float confidence = surfel.position_confidence.w;
     const uint age = framesSince(p.view, surfel.colour_times.z);
     uint flag = 1u;
+    uint retired = 0u;
     if (age > p.time_window_frames) {
+      flag = 0u;
       if (count > p.full_count && (confidence < p.eviction_confidence || age > p.eviction_age_frames)) {
-        flag = 0u;
         atomicAdd(stats.evicted_when_full, 1u);
+      } else {
+        retired = 1u;
+        atomicAdd(stats.retired, 1u);
       }
     } else if (confidence < p.confidence_threshold && age > p.unstable_max_age_frames) {
       flag = 0u;
@@ -95,6 +104,7 @@ void main() {
       flag = 0u;
       atomicAdd(stats.removed_free_space, 1u);
     }
-    keep[i] = flag;
+    keep[i - begin] = flag;
+    retire[i - begin] = retired;
   }
 }

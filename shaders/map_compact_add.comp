@@ -17,13 +17,13 @@ layout(set = 0, binding = 0, std430) restrict readonly buffer MapState {
   uint surfel_count;
   uint overflow_count;
   uint state_frame;
-  uint state_pad;
+  uint active_begin;
 } state;
 layout(set = 0, binding = 1, std430) restrict buffer Offsets { uint offsets[]; };
 layout(set = 0, binding = 2, std430) restrict readonly buffer TileOffsets { uint tile_offsets[]; };
 
 void main() {
-  const uint n = compactLevelCount(state.surfel_count, push.level);
+  const uint n = compactLevelCount(state.surfel_count - state.active_begin, push.level);
   const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   for (uint i = gl_GlobalInvocationID.x; i < n; i += stride) offsets[i] += tile_offsets[i / kCompactTileSize];
 }

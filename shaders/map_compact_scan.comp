@@ -6,7 +6,7 @@
 // operations, no 64-bit atomics.
 //
 // Bindings (set 0, std430):
-//   0  state      readonly   map state: surfel_count sizes every level
+//   0  state      readonly   map state: surfel_count − active_begin (the visited range) sizes every level
 //   1  values     readonly   uint[] this level's input (keep flags at level 0)
 //   2  offsets    writeonly  uint[] tile-local exclusive prefix sums of `values`
 //   3  tile_sums  writeonly  uint[] the next level's input: one total per tile
@@ -26,7 +26,7 @@ layout(set = 0, binding = 0, std430) restrict readonly buffer MapState {
   uint surfel_count;
   uint overflow_count;
   uint state_frame;
-  uint state_pad;
+  uint active_begin;
 } state;
 layout(set = 0, binding = 1, std430) restrict readonly buffer Values { uint values[]; };
 layout(set = 0, binding = 2, std430) restrict writeonly buffer Offsets { uint offsets[]; };
@@ -35,7 +35,7 @@ layout(set = 0, binding = 3, std430) restrict writeonly buffer TileSums { uint t
 shared uint partial[2][gl_WorkGroupSize.x];
 
 void main() {
-  const uint n = compactLevelCount(state.surfel_count, push.level);
+  const uint n = compactLevelCount(state.surfel_count - state.active_begin, push.level);
   const uint tiles = compactTiles(n);
   const uint lane = gl_LocalInvocationID.x;
   const uint lanes = gl_WorkGroupSize.x;

@@ -19,10 +19,11 @@
 //   1  normals       readonly  vec4[w·h]  camera frame
 //   2  rgb_words     readonly  uint[]     packed RGB888 (preprocess/packing.glsl)
 //   3  params        readonly  FusionParams
-//   4  state         readonly  MapState   surfel_count
+//   4  state         readonly  MapState   surfel_count, active_begin
 //   5  surfel_claim  readonly  uint[capacity]  claiming pixel index, kUnclaimed = none
 //   6  surfels                 Surfel[capacity]  current surfel array
-// One invocation per surfel, grid-stride over [0, surfel_count). CPU reference: vifusion::map::fuseCpu.
+// One invocation per surfel, grid-stride over [active_begin, surfel_count) (only active surfels are
+// claimed, and the inactive prefix holds none). CPU reference: vifusion::map::fuseCpu.
 #extension GL_GOOGLE_include_directive : require
 
 layout(local_size_x = 256) in;
@@ -72,7 +73,7 @@ void fuse(uint id, uint pixel_index) {
 void main() {
   const uint count = state.surfel_count;
   const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  for (uint id = gl_GlobalInvocationID.x; id < count; id += stride) {
+  for (uint id = state.active_begin + gl_GlobalInvocationID.x; id < count; id += stride) {
     const uint pixel_index = surfel_claim[id];
     if (pixel_index != kUnclaimed) fuse(id, pixel_index);
   }

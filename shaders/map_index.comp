@@ -11,12 +11,13 @@
 //
 // Bindings (set 0, std430):
 //   0  surfels      readonly  Surfel[capacity]  current surfel array
-//   1  state        readonly  MapState          surfel_count
+//   1  state        readonly  MapState          surfel_count, active_begin
 //   2  params       readonly  FusionParams
 //   3  index_depth            uint[w·h]
 //   4  index_id               uint[w·h]
 // Push constants: uint pass (0 or 1).
-// One invocation per surfel, grid-stride over [0, surfel_count).
+// One invocation per surfel, grid-stride over [active_begin, surfel_count): the inactive prefix holds no
+// active surfel (map_state.glsl).
 // CPU reference: vifusion::map::indexMapCpu.
 #extension GL_GOOGLE_include_directive : require
 
@@ -55,5 +56,5 @@ void splat(uint id) {
 void main() {
   const uint count = state.surfel_count;
   const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  for (uint id = gl_GlobalInvocationID.x; id < count; id += stride) splat(id);
+  for (uint id = state.active_begin + gl_GlobalInvocationID.x; id < count; id += stride) splat(id);
 }

@@ -13,7 +13,7 @@
 //     in one traversal of the surfels instead of two (the 32-bit passes stay for Mali/V3D).
 //
 // Bindings (set 0, std430):
-//   0  state       readonly   map state: surfel_count bounds the loop
+//   0  state       readonly   map state: [active_begin or 0, surfel_count) bounds the loop
 //   1  params      readonly   PredictionParams (host-written per frame)
 //   2  surfels     readonly   Surfel[] of the current ping-pong array
 //   3  depth_bits  pass 0: atomicMin target, cleared to 0xffffffff; pass 1: readonly
@@ -35,7 +35,7 @@ layout(set = 0, binding = 0, std430) restrict readonly buffer MapState {
   uint surfel_count;
   uint overflow_count;
   uint state_frame;
-  uint state_pad;
+  uint active_begin;
 } state;
 layout(set = 0, binding = 1, std430) restrict readonly buffer Params { PredictionParams params; };
 layout(set = 0, binding = 2, std430) restrict readonly buffer Surfels { Surfel surfels[]; };
@@ -50,8 +50,10 @@ void main() {
   // Loaded once: the compiler may not hoist buffer loads across the atomics in the loop.
   const PredictionParams p = params;
   const uint count = state.surfel_count;
+  // The active model lies in [active_begin, surfel_count); the inactive one anywhere (map_state.glsl).
+  const uint first = p.surfels == kPredictInactive ? 0u : state.active_begin;
   const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-  for (uint i = gl_GlobalInvocationID.x; i < count; i += stride) {
+  for (uint i = first + gl_GlobalInvocationID.x; i < count; i += stride) {
     const Surfel surfel = surfels[i];
     if (!isRendered(surfel, p)) continue;
     const CameraSurfel s = toCamera(surfel, p.view);

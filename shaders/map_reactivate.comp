@@ -22,7 +22,7 @@ layout(set = 0, binding = 0, std430) restrict readonly buffer MapState {
   uint surfel_count;
   uint overflow_count;
   uint state_frame;
-  uint state_pad;
+  uint active_begin;
 } state;
 layout(set = 0, binding = 1, std430) restrict buffer Surfels { Surfel surfels[]; };
 layout(set = 0, binding = 2, std430) restrict readonly buffer Ids { uint ids[]; };

@@ -6,8 +6,8 @@
 //     computed here from the count the map state holds, so the host does not read the count first:
 //       sample j = (p_W of surfel j·stride [m], its creation frame uint(colour_times.y)),  j < n,
 //       n = ⌈surfel_count / stride⌉ ≤ max_nodes,
-//     and the header (n, stride, surfel_count). The array is in creation order (map_insert appends,
-//     compaction is stable), so the samples come out sorted by creation frame, as the graph wants them.
+//     and the header (n, stride, surfel_count). The array is not in creation order (the inactive prefix,
+//     then the active range: map_state.glsl); the graph sorts the samples by creation frame.
 //   VIFUSION_SAMPLE_GATHER=1 (map_gather_points): loop-closure constraint points. For each of point_count
 //     level-0 pixels written by the host, the surfel that won that pixel in one ModelPrediction (its splat id
 //     image): the surfel's centre in W [m] (not the ray–disk intersection the vertex map holds), its normal in
@@ -34,7 +34,7 @@ layout(set = 0, binding = 0, std430) restrict readonly buffer MapState {
   uint surfel_count;
   uint overflow_count;
   uint state_frame;
-  uint state_pad;
+  uint active_begin;
 } state;
 layout(set = 0, binding = 1, std430) restrict readonly buffer Surfels { Surfel surfels[]; };
 

@@ -52,10 +52,13 @@ class MapRig {
     const uint64_t pixel_bytes = uint64_t(camera.width) * uint64_t(camera.height) * 4;
     surfel_upload_ = plan_.addBuffer("test.surfels", surfel_bytes, gpu::MemoryUse::Upload);
     keep_upload_ = plan_.addBuffer("test.keep", uint64_t{capacity} * 4, gpu::MemoryUse::Upload);
+    retire_upload_ = plan_.addBuffer("test.retire", uint64_t{capacity} * 4, gpu::MemoryUse::Upload);
     index_depth_upload_ = plan_.addBuffer("test.index_depth", pixel_bytes, gpu::MemoryUse::Upload);
     index_id_upload_ = plan_.addBuffer("test.index_id", pixel_bytes, gpu::MemoryUse::Upload);
     compacted_ = readback(map_.surfels(1));
+    previous_ = readback(map_.surfels(0));
     keep_ = readback(maintenance_.keepFlags());
+    retire_ = readback(maintenance_.retireFlags());
     depth_bits_ = readback(prediction_.splatDepthBits());
     ids_ = readback(prediction_.splatIds());
     for (int l = 0; l < prediction_.levels(); ++l) {
@@ -68,7 +71,9 @@ class MapRig {
     map_.reset(*arena_);
 
     upload_ = sequence(context, "upload", [&](gpu::CommandRecorder& r) {
+      // Both arrays: they share the inactive prefix (map_buffers.hpp).
       r.copyBuffer(buffer(surfel_upload_), buffer(map_.surfels(0)), surfel_bytes);
+      r.copyBuffer(buffer(surfel_upload_), buffer(map_.surfels(1)), surfel_bytes);
       r.copyBuffer(buffer(index_depth_upload_), buffer(map_.indexDepth()), pixel_bytes);
       r.copyBuffer(buffer(index_id_upload_), buffer(map_.indexId()), pixel_bytes);
       r.computeBarrier();
@@ -80,25 +85,27 @@ class MapRig {
     });
     cleanup_ = sequence(context, "cleanup", [&](gpu::CommandRecorder& r) {
       maintenance_.recordCleanup(r, 0);
-      copyBack(r, {keep_});
+      copyBack(r, {keep_, retire_});
     });
     compact_flags_ = sequence(context, "compact", [&](gpu::CommandRecorder& r) {
       r.copyBuffer(buffer(keep_upload_), buffer(maintenance_.keepFlags()), buffer(keep_upload_).bytes);
+      r.copyBuffer(buffer(retire_upload_), buffer(maintenance_.retireFlags()), buffer(retire_upload_).bytes);
       r.computeBarrier();
       maintenance_.recordCompaction(r, 0);
-      copyBack(r, {compacted_});
+      copyBack(r, {compacted_, previous_});
     });
     maintain_ = sequence(context, "maintain", [&](gpu::CommandRecorder& r) {
       maintenance_.record(r, 0);
-      copyBack(r, {compacted_, keep_});
+      copyBack(r, {compacted_, previous_, keep_, retire_});
     });
   }
 
-  /// Writes `surfels` into array 0 and sets surfel_count.
-  void writeMap(std::span<const Surfel> surfels) {
+  /// Writes `surfels` into both arrays and sets surfel_count and active_begin (the inactive prefix's end).
+  void writeMap(std::span<const Surfel> surfels, std::uint32_t active_begin = 0) {
     std::memcpy(buffer(surfel_upload_).mapped, surfels.data(), surfels.size_bytes());
     map::MapState state;
     state.surfel_count = static_cast<std::uint32_t>(surfels.size());
+    state.active_begin = active_begin;
     state.frame = kFrame;
     std::memcpy(buffer(map_.state()).mapped, &state, sizeof(state));
     upload_->run();
@@ -108,6 +115,7 @@ class MapRig {
     std::memcpy(buffer(index_id_upload_).mapped, ids.data, ids.pixelCount() * 4);
   }
   std::span<std::uint32_t> keepUpload() { return buffer(keep_upload_).hostSpan<std::uint32_t>(); }
+  std::span<std::uint32_t> retireUpload() { return buffer(retire_upload_).hostSpan<std::uint32_t>(); }
 
   void predict(const SE3d& T_C_W, std::uint32_t frame) {
     prediction_.setView(T_C_W, frame);
@@ -135,8 +143,15 @@ class MapRig {
   gpu::BufferId depthBits() const { return depth_bits_; }
   gpu::BufferId ids() const { return ids_; }
   std::span<const std::uint32_t> keep() const { return buffer(keep_).hostSpan<const std::uint32_t>(); }
+  std::span<const std::uint32_t> retire() const { return buffer(retire_).hostSpan<const std::uint32_t>(); }
+  /// Array 1 after a compaction of array 0, and array 0 itself (whose prefix the compaction extends).
   std::span<const Surfel> compacted() const { return buffer(compacted_).hostSpan<const Surfel>(); }
+  std::span<const Surfel> previous() const { return buffer(previous_).hostSpan<const Surfel>(); }
   std::uint32_t count() const { return map_.readState(*arena_).surfel_count; }
+  map::MapExtent extent() const {
+    const map::MapState state = map_.readState(*arena_);
+    return {state.active_begin, state.surfel_count};
+  }
   const map::ModelPrediction& prediction() const { return prediction_; }
   const map::MapMaintenance& maintenance() const { return maintenance_; }
 
@@ -167,8 +182,8 @@ class MapRig {
   map::MapBuffers map_;
   map::ModelPrediction prediction_;
   map::MapMaintenance maintenance_;
-  gpu::BufferId surfel_upload_, keep_upload_, index_depth_upload_, index_id_upload_;
-  gpu::BufferId compacted_, keep_, depth_bits_, ids_;
+  gpu::BufferId surfel_upload_, keep_upload_, retire_upload_, index_depth_upload_, index_id_upload_;
+  gpu::BufferId compacted_, previous_, keep_, retire_, depth_bits_, ids_;
   std::vector<LevelMirrors> levels_;
   std::vector<std::pair<gpu::BufferId, gpu::BufferId>> mirrors_;
   std::unique_ptr<gpu::MemoryArena> arena_;

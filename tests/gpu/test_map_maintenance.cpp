@@ -1,6 +1,7 @@
-// Map maintenance on the GPU against its CPU references: the compaction of keep flags (a stable partition,
-// exact at 2 M surfels) and the cleanup rules (unstable, free-space and full-map eviction of inactive surfels),
-// exact for keep flags, counts and compacted arrays.
+// Map maintenance on the GPU against its CPU references: the compaction of keep and retire flags (a stable
+// partition of the visited range behind the inactive prefix, exact at 2 M surfels, the prefix the same in both
+// arrays afterwards) and the cleanup rules (retirement, unstable, free-space and full-map eviction of inactive
+// surfels), exact for flags, counts and compacted arrays, over the whole map and over an active range only.
 
 #include <gtest/gtest.h>
 
@@ -43,26 +44,43 @@ TEST_F(GpuTest, CompactionOfRandomFlagsAt2MSurfelsIsAStablePartition) {
   MapRig rig(context(), kCapacity, PinholeCamera::create(64, 48, 50, 50, 32, 24));
   EXPECT_EQ(rig.maintenance().scanLevels(), 3);  // 2 M flags → 1954 tile sums → 2 → total
   std::mt19937 random(7);
-  // Full map, half kept; then a partial last tile with few survivors; then an empty map.
-  for (const auto& [count, keep_probability] : {std::pair{kCapacity, 0.5}, {1'234'567u, 0.01}, {0u, 0.5}}) {
-    SCOPED_TRACE("count " + std::to_string(count));
-    const std::vector<Surfel> surfels = numberedSurfels(count);
-    rig.writeMap(surfels);
-    std::bernoulli_distribution keep(keep_probability);
-    std::span<std::uint32_t> flags = rig.keepUpload();
-    for (std::uint32_t i = 0; i < count; ++i) flags[i] = keep(random) ? 1u : 0u;
+  struct Case {
+    std::uint32_t count, active_begin;
+    double keep, retire;  // probabilities per visited surfel; the rest is removed
+  };
+  // Full map visited whole, half kept, a quarter retired; a partial last tile with few survivors behind a
+  // long prefix; a visited range of one surfel; an empty map.
+  for (const Case c : {Case{kCapacity, 0, 0.5, 0.25},
+                       {1'234'567u, 1'000'003u, 0.01, 0.02},
+                       {77u, 76u, 0.0, 1.0},
+                       {0u, 0u, 0.5, 0.25}}) {
+    SCOPED_TRACE("count " + std::to_string(c.count) + ", active_begin " + std::to_string(c.active_begin));
+    const std::vector<Surfel> surfels = numberedSurfels(c.count);
+    rig.writeMap(surfels, c.active_begin);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::span<std::uint32_t> keep = rig.keepUpload().first(c.count - c.active_begin);
+    std::span<std::uint32_t> retire = rig.retireUpload().first(c.count - c.active_begin);
+    for (std::uint32_t k = 0; k < keep.size(); ++k) {
+      const double u = unit(random);
+      keep[k] = u < c.keep ? 1u : 0u;
+      retire[k] = u >= c.keep && u < c.keep + c.retire ? 1u : 0u;
+    }
     rig.compactUploadedFlags();
 
-    std::vector<Surfel> expected = surfels;
-    const auto kept_end = std::stable_partition(expected.begin(), expected.end(), [&](const Surfel& s) {
-      return flags[std::bit_cast<std::uint32_t>(s.colour_times.w())] != 0u;
-    });
-    const auto kept = static_cast<std::uint32_t>(kept_end - expected.begin());
-    ASSERT_EQ(rig.count(), kept);
-    EXPECT_EQ(rig.maintenance().stats().kept, kept);
-    std::size_t mismatches = 0;
-    for (std::uint32_t i = 0; i < kept; ++i) mismatches += sameSurfel(rig.compacted()[i], expected[i]) ? 0 : 1;
+    std::vector<Surfel> expected(c.count);
+    const map::MapExtent extent = map::compactCpu(surfels, c.active_begin, keep, retire, expected);
+    ASSERT_EQ(rig.extent(), extent);
+    EXPECT_EQ(rig.maintenance().stats().kept, extent.surfel_count);
+    std::size_t mismatches = 0, prefix_mismatches = 0;
+    for (std::uint32_t i = 0; i < extent.surfel_count; ++i) {
+      mismatches += sameSurfel(rig.compacted()[i], expected[i]) ? 0 : 1;
+    }
+    // The other array (compacted from) ends with the same inactive prefix.
+    for (std::uint32_t i = 0; i < extent.active_begin; ++i) {
+      prefix_mismatches += sameSurfel(rig.previous()[i], expected[i]) ? 0 : 1;
+    }
     EXPECT_EQ(mismatches, 0u);
+    EXPECT_EQ(prefix_mismatches, 0u);
   }
 }
 
@@ -116,38 +134,55 @@ TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndEvictsInactiveSurfelsOnlyWhenFul
   }
   const SE3d T_C_W = frame.T_W_C.inverse();
 
-  // Roomy map first, then one over 95 % full, where inactive unstable and old surfels are evicted.
-  for (const std::uint32_t capacity : {400'000u, static_cast<std::uint32_t>(surfels.size() * 1.02)}) {
-    SCOPED_TRACE("capacity " + std::to_string(capacity));
-    MapRig rig(context(), capacity, frame.camera);
+  // A roomy map visited whole; the same with the first half of the wall as the inactive prefix, which the
+  // cleanup skips (no flags, no counts); then one over 95 % full with the same prefix, which setView visits
+  // whole (active_begin back to 0) so that the inactive unstable and old surfels are evicted.
+  struct Case {
+    std::uint32_t capacity, active_begin;
+  };
+  const auto half = static_cast<std::uint32_t>(wall.size() / 2);
+  const auto full_capacity = static_cast<std::uint32_t>(surfels.size() * 1.02);
+  for (const Case c : {Case{400'000u, 0u}, {400'000u, half}, {full_capacity, half}}) {
+    SCOPED_TRACE("capacity " + std::to_string(c.capacity) + ", active_begin " + std::to_string(c.active_begin));
+    MapRig rig(context(), c.capacity, frame.camera);
     const map::MapView view = rig.maintenance().makeParams(T_C_W, kFrame).view;
     Image<std::uint32_t> index_depth, index_id;
     nearestCentreIndexMap(surfels, view, map::MapOptions{}.time_window_frames, index_depth, index_id);
     rig.writeIndexMap(index_depth.view(), index_id.view());
-    rig.writeMap(surfels);
+    rig.writeMap(surfels, c.active_begin);
     rig.cleanup(T_C_W);  // the map-full policy's first frame at this count
     const map::CleanupParams params = rig.maintenance().makeParams(T_C_W, kFrame);
     const bool full = surfels.size() > params.full_count;
     EXPECT_EQ(params.eviction_age_frames, full ? kFrame / 2 : map::kNoAgeEviction);
+    const std::uint32_t begin = full ? 0u : c.active_begin;
+    EXPECT_EQ(rig.extent().active_begin, begin);
 
-    std::vector<std::uint32_t> keep(surfels.size());
+    const std::size_t visited = surfels.size() - begin;
+    std::vector<std::uint32_t> keep(visited), retire(visited);
     map::MaintenanceStats expected;
-    map::cleanupCpu(surfels, params, index_depth.view(), index_id.view(), keep, expected);
+    map::cleanupCpu(surfels, begin, params, index_depth.view(), index_id.view(), keep, retire, expected);
     EXPECT_TRUE(std::equal(keep.begin(), keep.end(), rig.keep().begin()));
+    EXPECT_TRUE(std::equal(retire.begin(), retire.end(), rig.retire().begin()));
     EXPECT_EQ(rig.maintenance().stats(), expected);
 
-    std::size_t removed[6] = {}, total[6] = {}, facing_floaters = 0;
-    for (std::size_t i = 0; i < surfels.size(); ++i) {
-      ++total[int(kinds[i])];
-      removed[int(kinds[i])] += keep[i] == 0u ? 1 : 0;
+    std::size_t removed[6] = {}, retired[6] = {}, total[6] = {}, facing_floaters = 0;
+    for (std::size_t i = begin; i < surfels.size(); ++i) {
+      const int kind = int(kinds[i]);
+      ++total[kind];
+      removed[kind] += keep[i - begin] == 0u && retire[i - begin] == 0u ? 1 : 0;
+      retired[kind] += retire[i - begin];
       const Eigen::Vector3f n_C = map::rotateVectorCpu(params.view, surfels[i].normal_radius.head<3>());
       facing_floaters += kinds[i] == Kind::Floater && std::abs(n_C.z()) > params.facing_min_abs_nz ? 1 : 0;
     }
     EXPECT_EQ(removed[int(Kind::Inactive)], 0u);
+    EXPECT_EQ(retired[int(Kind::Inactive)], total[int(Kind::Inactive)]);
     EXPECT_EQ(removed[int(Kind::InactiveUnstable)], full ? total[int(Kind::InactiveUnstable)] : 0u);
     EXPECT_EQ(removed[int(Kind::InactiveOld)], full ? total[int(Kind::InactiveOld)] : 0u);
     EXPECT_EQ(expected.evicted_when_full,
               full ? total[int(Kind::InactiveUnstable)] + total[int(Kind::InactiveOld)] : 0u);
+    EXPECT_EQ(expected.retired,
+              retired[int(Kind::Inactive)] + retired[int(Kind::InactiveUnstable)] + retired[int(Kind::InactiveOld)]);
+    EXPECT_EQ(retired[int(Kind::Wall)] + retired[int(Kind::Floater)] + retired[int(Kind::OldUnstable)], 0u);
     EXPECT_EQ(removed[int(Kind::OldUnstable)], total[int(Kind::OldUnstable)]);
     // Floaters are only tested when they face the camera; nearly all of those are seen through.
     EXPECT_LE(removed[int(Kind::Floater)], facing_floaters);
@@ -156,7 +191,7 @@ TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndEvictsInactiveSurfelsOnlyWhenFul
     EXPECT_LE(removed[int(Kind::Wall)], total[int(Kind::Wall)] / 200);
     std::cout << "full " << full << ": removed floaters " << removed[int(Kind::Floater)] << " (facing "
               << facing_floaters << " of " << total[int(Kind::Floater)] << "), wall " << removed[int(Kind::Wall)] << "/"
-              << total[int(Kind::Wall)] << "\n";
+              << total[int(Kind::Wall)] << ", retired " << expected.retired << "\n";
 
     // The whole maintenance step: cleanup then compaction into array 1. A second frame at this count:
     // a full map halves the eviction age (250 frames), which still spares Kind::Inactive (age 250).
@@ -164,14 +199,17 @@ TEST_F(GpuTest, CleanupMatchesItsCpuReferenceAndEvictsInactiveSurfelsOnlyWhenFul
     const map::CleanupParams second = rig.maintenance().makeParams(T_C_W, kFrame);
     EXPECT_EQ(second.eviction_age_frames, full ? kFrame / 4 : map::kNoAgeEviction);
     map::MaintenanceStats second_stats;
-    map::cleanupCpu(surfels, second, index_depth.view(), index_id.view(), keep, second_stats);
+    map::cleanupCpu(surfels, begin, second, index_depth.view(), index_id.view(), keep, retire, second_stats);
     EXPECT_EQ(second_stats, expected);
     std::vector<Surfel> compacted(surfels.size());
-    const std::uint32_t kept = map::compactCpu(surfels, keep, compacted);
-    ASSERT_EQ(rig.count(), kept);
-    EXPECT_EQ(rig.maintenance().stats().kept, kept);
+    const map::MapExtent extent = map::compactCpu(surfels, begin, keep, retire, compacted);
+    ASSERT_EQ(rig.extent(), extent);
+    EXPECT_EQ(extent.active_begin, begin + expected.retired);
+    EXPECT_EQ(rig.maintenance().stats().kept, extent.surfel_count);
     std::size_t mismatches = 0;
-    for (std::uint32_t i = 0; i < kept; ++i) mismatches += sameSurfel(rig.compacted()[i], compacted[i]) ? 0 : 1;
+    for (std::uint32_t i = 0; i < extent.surfel_count; ++i) {
+      mismatches += sameSurfel(rig.compacted()[i], compacted[i]) ? 0 : 1;
+    }
     EXPECT_EQ(mismatches, 0u);
   }
 }

@@ -8,8 +8,9 @@ namespace vifusion::map {
 namespace {
 
 // violatesFreeSpace of map_cleanup.comp, operation for operation.
-bool violatesFreeSpace(std::size_t i, const Surfel& surfel, std::span<const Surfel> surfels, const CleanupParams& params,
-                       ImageView<const std::uint32_t> index_depth, ImageView<const std::uint32_t> index_id) {
+bool violatesFreeSpace(std::size_t i, const Surfel& surfel, std::span<const Surfel> surfels,
+                       const CleanupParams& params, ImageView<const std::uint32_t> index_depth,
+                       ImageView<const std::uint32_t> index_id) {
   const MapView& view = params.view;
   const Eigen::Vector3f p_C = transformPointCpu(view, surfel.position_confidence.head<3>());
   if (!(p_C.z() > 0.0f && p_C.z() <= params.max_depth_m)) return false;
@@ -51,18 +52,23 @@ std::uint32_t nextEvictionAge(std::uint32_t age_frames, std::uint32_t surfel_cou
   return std::max(time_window_frames, std::min(age_frames, frame) / 2);
 }
 
-void cleanupCpu(std::span<const Surfel> surfels, const CleanupParams& params, ImageView<const std::uint32_t> index_depth,
-                ImageView<const std::uint32_t> index_id, std::span<std::uint32_t> keep, MaintenanceStats& stats) {
+void cleanupCpu(std::span<const Surfel> surfels, std::uint32_t active_begin, const CleanupParams& params,
+                ImageView<const std::uint32_t> index_depth, ImageView<const std::uint32_t> index_id,
+                std::span<std::uint32_t> keep, std::span<std::uint32_t> retire, MaintenanceStats& stats) {
   const auto count = static_cast<std::uint32_t>(surfels.size());
-  for (std::size_t i = 0; i < surfels.size(); ++i) {
+  for (std::size_t i = active_begin; i < surfels.size(); ++i) {
     const Surfel& surfel = surfels[i];
     const float confidence = surfel.position_confidence.w();
     const std::uint32_t age = framesSinceCpu(params.view, surfel.colour_times.z());
     std::uint32_t flag = 1;
+    std::uint32_t retired = 0;
     if (age > params.time_window_frames) {
+      flag = 0;
       if (count > params.full_count && (confidence < params.eviction_confidence || age > params.eviction_age_frames)) {
-        flag = 0;
         ++stats.evicted_when_full;
+      } else {
+        retired = 1;
+        ++stats.retired;
       }
     } else if (confidence < params.confidence_threshold && age > params.unstable_max_age_frames) {
       flag = 0;
@@ -71,7 +77,8 @@ void cleanupCpu(std::span<const Surfel> surfels, const CleanupParams& params, Im
       flag = 0;
       ++stats.removed_free_space;
     }
-    keep[i] = flag;
+    keep[i - active_begin] = flag;
+    retire[i - active_begin] = retired;
   }
 }
 
@@ -84,13 +91,20 @@ std::uint32_t exclusiveScanCpu(std::span<const std::uint32_t> values, std::span<
   return running;
 }
 
-std::uint32_t compactCpu(std::span<const Surfel> surfels, std::span<const std::uint32_t> keep,
-                         std::span<Surfel> destination) {
-  std::uint32_t kept = 0;
-  for (std::size_t i = 0; i < surfels.size(); ++i) {
-    if (keep[i] != 0u) destination[kept++] = surfels[i];
+MapExtent compactCpu(std::span<const Surfel> surfels, std::uint32_t active_begin, std::span<const std::uint32_t> keep,
+                     std::span<const std::uint32_t> retire, std::span<Surfel> destination) {
+  std::uint32_t next = active_begin;
+  std::copy(surfels.begin(), surfels.begin() + active_begin, destination.begin());
+  for (std::size_t i = active_begin; i < surfels.size(); ++i) {
+    if (retire[i - active_begin] != 0u) destination[next++] = surfels[i];
   }
-  return kept;
+  MapExtent extent;
+  extent.active_begin = next;
+  for (std::size_t i = active_begin; i < surfels.size(); ++i) {
+    if (retire[i - active_begin] == 0u && keep[i - active_begin] != 0u) destination[next++] = surfels[i];
+  }
+  extent.surfel_count = next;
+  return extent;
 }
 
 }  // namespace vifusion::map

@@ -33,4 +33,10 @@ void MapBuffers::reset(const gpu::MemoryArena& arena) {
   current_ = 0;
 }
 
+void MapBuffers::visitWholeMapNextFrame(const gpu::MemoryArena& arena) const {
+  MapState state = readState(arena);
+  state.active_begin = 0;
+  std::memcpy(arena.buffer(state_).mapped, &state, sizeof(state));
+}
+
 }  // namespace vifusion::map

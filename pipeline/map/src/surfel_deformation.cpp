@@ -127,7 +127,11 @@ void SurfelDeformation::setNodes(const loop::DeformationGraph& graph) {
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
 }
 
-void SurfelDeformation::apply() { kernels_->sequences[map_.current()]->run(); }
+void SurfelDeformation::apply() {
+  kernels_->sequences[map_.current()]->run();
+  // Only the current array moved: its inactive prefix no longer matches the other array's.
+  map_.visitWholeMapNextFrame(*arena_);
+}
 
 void deformSurfelsCpu(std::span<Surfel> surfels, std::span<const DeformationNode> nodes, std::uint32_t candidates,
                       std::uint32_t first_moving_node) {

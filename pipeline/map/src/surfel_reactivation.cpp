@@ -68,6 +68,8 @@ void SurfelReactivation::apply(std::uint32_t frame) {
   const ReactivateParams params{pixels_, frame};
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
   kernels_->sequences[map_.current()]->run();
+  // Surfels of the inactive prefix are active now (and only in the current array).
+  map_.visitWholeMapNextFrame(*arena_);
 }
 
 void reactivateSurfelsCpu(std::span<Surfel> surfels, ImageView<const std::uint32_t> ids, std::uint32_t frame) {

@@ -24,6 +24,7 @@ struct CleanupParams {
   uint kept;                               \
   uint removed_unstable;                   \
   uint removed_free_space;                 \
-  uint evicted_when_full;
+  uint evicted_when_full;                  \
+  uint retired;
 
 #endif

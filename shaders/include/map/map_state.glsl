@@ -7,7 +7,11 @@ struct MapState {
   uint surfel_count;    // surfels in the current array, ≤ capacity
   uint overflow_count;  // new surfels dropped since start-up because the map was full
   uint frame;           // frame last fused (written by map_insert)
-  uint pad;
+  // Surfels [0, active_begin) are inactive: the loop-closure memory, which the per-frame passes
+  // (index, fusion, active prediction, cleanup, compaction) skip. [active_begin, surfel_count) holds
+  // every active surfel and those that turned inactive since the last maintenance. 0 = visit the
+  // whole map (map_maintenance.hpp says when the host asks for that).
+  uint active_begin;
 };
 
 #endif

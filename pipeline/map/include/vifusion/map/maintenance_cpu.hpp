@@ -16,16 +16,16 @@ namespace vifusion::map {
 
 /// CleanupParams in cleanup.glsl; map_cleanup.comp documents each rule.
 struct CleanupParams {
-  MapView view;                              ///< pose and frame of the index map
-  float confidence_threshold = 0;            ///< stable when confidence ≥ this
-  std::uint32_t time_window_frames = 0;      ///< δ_t: active when updated within this many frames
-  std::uint32_t unstable_max_age_frames = 0; ///< unstable surfels not updated for longer are removed
-  float max_depth_m = 0;                     ///< free-space test only within this depth [m]
-  float free_space_margin_m = 0;             ///< neighbours must lie this far behind [m]
-  float facing_min_abs_nz = 0;               ///< the surfel must face the camera: |n_C.z| > this
+  MapView view;                                 ///< pose and frame of the index map
+  float confidence_threshold = 0;               ///< stable when confidence ≥ this
+  std::uint32_t time_window_frames = 0;         ///< δ_t: active when updated within this many frames
+  std::uint32_t unstable_max_age_frames = 0;    ///< unstable surfels not updated for longer are removed
+  float max_depth_m = 0;                        ///< free-space test only within this depth [m]
+  float free_space_margin_m = 0;                ///< neighbours must lie this far behind [m]
+  float facing_min_abs_nz = 0;                  ///< the surfel must face the camera: |n_C.z| > this
   std::uint32_t free_space_min_neighbours = 0;  ///< removed when ≥ this many neighbours agree
-  std::uint32_t full_count = 0;              ///< the map is full when surfel_count > this
-  float eviction_confidence = 0;             ///< when full, inactive surfels below this go
+  std::uint32_t full_count = 0;                 ///< the map is full when surfel_count > this
+  float eviction_confidence = 0;                ///< when full, inactive surfels below this go
   /// When full, inactive surfels not updated for more than this many frames go too (nextEvictionAge).
   std::uint32_t eviction_age_frames = 0;
   std::uint32_t pad[2] = {};
@@ -54,22 +54,34 @@ struct MaintenanceStats {
   std::uint32_t removed_unstable = 0;    ///< unstable and not updated for too long
   std::uint32_t removed_free_space = 0;  ///< seen through this frame
   std::uint32_t evicted_when_full = 0;   ///< inactive, never stable or old, map over its full mark
+  std::uint32_t retired = 0;             ///< turned inactive: moved to the inactive prefix
   bool operator==(const MaintenanceStats&) const = default;
 };
-static_assert(sizeof(MaintenanceStats) == 16);
+static_assert(sizeof(MaintenanceStats) == 20);
 
-/// Keep flags (1 keep, 0 remove) of `surfels` (the live ones); `keep` has surfels.size() entries.
-/// index_depth/index_id: the level-0 index map (float bits of camera depth; surfel index + 1, 0 =
-/// none). Fills the removal counters of `stats` (kept is left to compaction).
-void cleanupCpu(std::span<const Surfel> surfels, const CleanupParams& params, ImageView<const std::uint32_t> index_depth,
-                ImageView<const std::uint32_t> index_id, std::span<std::uint32_t> keep, MaintenanceStats& stats);
+/// Keep flags (1 stays active) and retire flags (1 moves to the inactive prefix; both 0: removed) of
+/// the visited surfels [active_begin, surfels.size()) of the live map `surfels` (MapState says why the
+/// prefix is skipped); `keep` and `retire` have surfels.size() − active_begin entries. index_depth/index_id:
+/// the level-0 index map (float bits of camera depth; surfel index + 1, 0 = none). Fills the removal and
+/// retirement counters of `stats` (kept is left to compaction).
+void cleanupCpu(std::span<const Surfel> surfels, std::uint32_t active_begin, const CleanupParams& params,
+                ImageView<const std::uint32_t> index_depth, ImageView<const std::uint32_t> index_id,
+                std::span<std::uint32_t> keep, std::span<std::uint32_t> retire, MaintenanceStats& stats);
 
 /// Exclusive prefix sum of `values` into `offsets` (same size); returns the total.
 std::uint32_t exclusiveScanCpu(std::span<const std::uint32_t> values, std::span<std::uint32_t> offsets);
 
-/// Stable compaction: the surfels with keep ≠ 0, in order, to the front of `destination`
-/// (≥ surfels.size() entries); returns how many.
-std::uint32_t compactCpu(std::span<const Surfel> surfels, std::span<const std::uint32_t> keep,
-                         std::span<Surfel> destination);
+/// Where the live surfels lie after a compaction (MapState's fields of the same names).
+struct MapExtent {
+  std::uint32_t active_begin = 0;
+  std::uint32_t surfel_count = 0;
+  bool operator==(const MapExtent&) const = default;
+};
+
+/// Stable partition of the visited range [active_begin, surfels.size()) by its flags (cleanupCpu's):
+/// destination = the prefix [0, active_begin) unchanged, then the retired surfels in order, then the
+/// kept ones in order (`destination` has ≥ surfels.size() entries). Returns the new extent.
+MapExtent compactCpu(std::span<const Surfel> surfels, std::uint32_t active_begin, std::span<const std::uint32_t> keep,
+                     std::span<const std::uint32_t> retire, std::span<Surfel> destination);
 
 }  // namespace vifusion::map

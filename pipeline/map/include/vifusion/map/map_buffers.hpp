@@ -6,6 +6,12 @@
 //                           then calls flip(). Only entries [0, surfel_count) are meaningful.
 //   state                   one MapState (std430, 16 bytes), host-visible: the host reads the
 //                           count after a frame and resets it at start-up; kernels keep it.
+//                           Layout of the live surfels [0, surfel_count) in the current array:
+//                             [0, active_begin)             inactive (loop-closure memory), identical
+//                                                           in both arrays, skipped per frame
+//                             [active_begin, surfel_count)  the active surfels and those that turned
+//                                                           inactive since the last maintenance
+//                           so a per-frame pass costs what the view holds, not what the map holds.
 //   index_depth, index_id   one uint per level-0 pixel: the index map of the active surfels
 //                           (written by map_index, read by association and cleanup).
 // Binding sets are written once, so a kernel that touches the surfels needs one binding set per
@@ -26,7 +32,9 @@ struct MapState {
   std::uint32_t surfel_count = 0;    ///< surfels in the current array, ≤ capacity
   std::uint32_t overflow_count = 0;  ///< new surfels dropped since start-up because the map was full
   std::uint32_t frame = 0;           ///< frame last fused (written by map_insert)
-  std::uint32_t pad = 0;
+  /// Surfels [0, active_begin) are inactive and skipped by every per-frame pass; 0 = the next frame
+  /// visits the whole map (map_maintenance.hpp).
+  std::uint32_t active_begin = 0;
 };
 static_assert(sizeof(MapState) == 16);
 
@@ -58,6 +66,11 @@ class MapBuffers {
   MapState readState(const gpu::MemoryArena& arena) const;
   /// Empties the map: count, overflow and frame to 0 (start-up, or between independent runs).
   void reset(const gpu::MemoryArena& arena);
+  /// Makes the next frame's passes visit the whole map (active_begin = 0) and its maintenance
+  /// partition it again: after surfels of the inactive prefix became active (reactivation) or when
+  /// the inactive ones must be visited (eviction from a full map). Host write: call only while no
+  /// submission is in flight. Const like the kernels' own writes: it changes the map's device state only.
+  void visitWholeMapNextFrame(const gpu::MemoryArena& arena) const;
 
  private:
   MapOptions options_;

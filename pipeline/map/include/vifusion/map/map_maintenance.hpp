@@ -2,14 +2,24 @@
 // Map maintenance on the GPU (DESIGN.md §4.4): cleanup decides which surfels stay, stream
 // compaction moves them into the other ping-pong array. Recorded once per surfel-array parity;
 // afterwards the map lives in the other array (MapBuffers::flip()) and the map state holds the
-// new surfel_count.
+// new surfel_count and active_begin.
 //
-//   map_cleanup          one keep flag per surfel (rules in shaders/map_cleanup.comp), counters
-//   map_compact_scan     exclusive scan of the flags in 1024-element tiles, then of the tile
-//                        totals, … until one tile (include/map/compact.glsl)
+// Only the visited range [active_begin, surfel_count) is cleaned and compacted (map_buffers.hpp):
+// its surfels that turned inactive are retired to the end of the inactive prefix, which is the
+// same in both arrays and is never walked per frame, so a frame's maintenance (and index, fusion
+// and active prediction) costs what the active map holds, not the whole map. The whole map is
+// visited when active_begin is 0: at start-up, after MapBuffers::visitWholeMapNextFrame (Slam calls
+// it after reactivation) and on every frame the map is over its full mark (setView), whose eviction
+// needs the inactive surfels.
+//
+//   map_cleanup          keep and retire flags per visited surfel (rules in shaders/map_cleanup.comp)
+//   map_compact_scan     exclusive scan of each chain of flags in 1024-element tiles, then of the
+//                        tile totals, … until one tile (include/map/compact.glsl)
 //   map_compact_add      tile offsets made global, top level down
-//   map_compact_scatter  kept surfels to their offsets in the other array (stable order)
-//   map_compact_finish   surfel_count ← total
+//   map_compact_scatter  retired surfels to the prefix's end, kept ones after them, in the other
+//                        array (stable order)
+//   map_compact_prefix   the retired surfels copied back into the current array too
+//   map_compact_finish   active_begin += retired, surfel_count ← active_begin + kept
 //
 // Map-full policy: when surfel_count > full_fraction·capacity, cleanup evicts (and counts) the
 // inactive surfels that never became stable (confidence below eviction_confidence) and those not
@@ -41,15 +51,15 @@ namespace vifusion::map {
 inline constexpr std::uint32_t kCompactTileSize = 1024;
 
 struct MaintenanceOptions {
-  float free_space_margin_m = 0.01f;           ///< ElasticFusion's 1 cm
-  float facing_min_abs_nz = 0.85f;             ///< ElasticFusion's facing test on |n_C.z|
-  std::uint32_t free_space_min_neighbours = 5; ///< of the 3×3 index-map window ("> 4")
-  float full_fraction = 0.95f;                 ///< the map is full above this fraction of capacity
+  float free_space_margin_m = 0.01f;            ///< ElasticFusion's 1 cm
+  float facing_min_abs_nz = 0.85f;              ///< ElasticFusion's facing test on |n_C.z|
+  std::uint32_t free_space_min_neighbours = 5;  ///< of the 3×3 index-map window ("> 4")
+  float full_fraction = 0.95f;                  ///< the map is full above this fraction of capacity
   /// When full, inactive surfels below this confidence are evicted; the default is the default
   /// stability threshold, so only inactive surfels that never became stable go.
   float eviction_confidence = 10.0f;
-  std::uint32_t workgroups = 256;              ///< workgroups of the grid-stride passes
-  std::uint32_t workgroup_size = 128;          ///< invocations per workgroup of those passes
+  std::uint32_t workgroups = 256;      ///< workgroups of the grid-stride passes
+  std::uint32_t workgroup_size = 128;  ///< invocations per workgroup of those passes
 
   /// Throws vifusion::Error naming the field that is out of range.
   void validate() const;
@@ -68,15 +78,18 @@ class MapMaintenance {
   /// The cleanup parameters for the index map rendered at T_C_W in frame `frame`.
   CleanupParams makeParams(const SE3d& T_C_W, std::uint32_t frame) const;
   /// Advances the map-full policy by the map's surfel_count as the last completed submission left
-  /// it, then writes the parameters for the next submission (host, no allocation).
+  /// it, then writes the parameters for the next submission (host, no allocation). A map over its
+  /// full mark is visited whole in the next submission (active_begin ← 0), so the eviction reaches
+  /// the inactive prefix.
   void setView(const SE3d& T_C_W, std::uint32_t frame);
 
   /// Cleanup then compaction from array `parity` into array 1 − parity, ending with a barrier that
   /// makes the new map, count and counters visible to later kernels and the host.
   void record(gpu::CommandRecorder& recorder, int parity) const;
-  /// Zeroes the counters and writes the keep flags (tests record the steps apart).
+  /// Zeroes the counters and writes the keep and retire flags (tests record the steps apart).
   void recordCleanup(gpu::CommandRecorder& recorder, int parity) const;
-  /// Scans the keep flags, scatters array `parity` into 1 − parity and sets surfel_count.
+  /// Scans both chains of flags, scatters the visited range of array `parity` into 1 − parity, copies
+  /// the retired surfels back into `parity` and sets active_begin and surfel_count.
   void recordCompaction(gpu::CommandRecorder& recorder, int parity) const;
 
   /// The map is full above this many surfels (full_fraction·capacity).
@@ -84,12 +97,24 @@ class MapMaintenance {
 
   /// Counters of the last completed submission.
   MaintenanceStats stats() const;
-  gpu::BufferId keepFlags() const { return keep_; }       ///< uint per surfel, 1 keep / 0 remove
-  gpu::BufferId offsets() const { return offsets_[0]; }   ///< tile-local exclusive offsets (level 0)
-  int scanLevels() const { return static_cast<int>(offsets_.size()); }  ///< levels incl. the flags' level 0
+  /// uint per visited surfel (at index − active_begin): 1 stays active, 0 not.
+  gpu::BufferId keepFlags() const { return keep_.flags; }
+  /// uint per visited surfel: 1 moves to the inactive prefix, 0 not.
+  gpu::BufferId retireFlags() const { return retire_.flags; }
+  gpu::BufferId offsets() const {
+    return keep_.offsets[0];
+  }  ///< tile-local exclusive offsets of the keep flags (level 0)
+  int scanLevels() const { return static_cast<int>(keep_.offsets.size()); }  ///< levels incl. the flags' level 0
 
  private:
   struct Kernels;
+  /// One chain of flags and its scan levels.
+  struct ScanChain {
+    gpu::BufferId flags;
+    std::vector<gpu::BufferId> offsets;    ///< [0]: level 0 (per visited surfel); [k]: scanned level k
+    std::vector<gpu::BufferId> tile_sums;  ///< [k]: input of level k+1; the last one is the total
+  };
+  ScanChain declareChain(gpu::CapacityPlan& plan, const char* name);
 
   gpu::GpuContext& context_;
   MaintenanceOptions options_;
@@ -99,12 +124,12 @@ class MapMaintenance {
   gpu::BufferId state_;
   gpu::BufferId index_depth_;
   gpu::BufferId index_id_;
+  const MapBuffers& map_;
   gpu::BufferId params_;
   gpu::BufferId stats_;
-  gpu::BufferId keep_;
-  std::vector<gpu::BufferId> offsets_;    ///< [0]: level 0 (per surfel); [k]: scanned level k
-  std::vector<gpu::BufferId> tile_sums_;  ///< [k]: input of level k+1; the last one is the total
-  std::vector<std::uint32_t> level_sizes_;  ///< largest element count of each level
+  ScanChain keep_;
+  ScanChain retire_;
+  std::vector<std::uint32_t> level_sizes_;  ///< largest element count of each level (both chains)
   const gpu::MemoryArena* arena_ = nullptr;
   std::unique_ptr<Kernels> kernels_;
   std::uint32_t eviction_age_frames_ = kNoAgeEviction;  ///< the map-full policy's state

@@ -4,12 +4,9 @@
 //  MapSampling      deformation-graph node samples: every stride-th live surfel of the current array,
 //                   stride = max(1, ⌈surfel_count / max_nodes⌉) computed on the GPU from the map state's count, as
 //                   (p_W [m], creation frame), at most max_nodes of them, plus how many were written.
-//                   Why the samples come out sorted by creation frame, as loop::DeformationGraph::build wants:
-//                   the surfel array is in creation order. map_insert appends a frame's new surfels (all created
-//                   in that frame) behind the live ones; fusion and the loop's deformation never change a
-//                   creation frame; compaction (map_maintenance) is a stable partition into the other array. So
-//                   creation frames never decrease along [0, surfel_count), and neither do every-stride-th
-//                   samples of them.
+//                   The array is not in creation order (map_buffers.hpp: the inactive prefix, then the active
+//                   range, each grown in order), so neither are the samples: loop::DeformationGraph::build sorts
+//                   them by creation frame.
 //  PredictionGather loop-closure constraint points: for up to max_points level-0 pixels written by the host, the
 //                   surfel that won each pixel in ONE ModelPrediction (its splat id image, bound at
 //                   construction): centre and normal in W, creation and last-update frames, or valid = 0 where

@@ -73,7 +73,8 @@ class SurfelDeformation {
   /// Writes node i of `graph` for i < graph.nodeCount() (committed parameters), as setNodes, with the graph's
   /// held nodes (firstFreeNode()) as the identity ones. No allocation.
   void setNodes(const loop::DeformationGraph& graph);
-  /// Deforms the current surfel array in place and waits for it.
+  /// Deforms the current surfel array in place and waits for it; the next frame visits the whole map
+  /// (MapBuffers::visitWholeMapNextFrame), so the other array's inactive prefix is rewritten too.
   void apply();
 
   /// Records the deformation of array `parity` (for callers that put it into their own sequence), ending with

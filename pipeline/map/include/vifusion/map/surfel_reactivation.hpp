@@ -31,7 +31,8 @@ class SurfelReactivation {
 
   /// Creates the kernel, one binding set and one recorded sequence per surfel-array parity.
   void build(const gpu::MemoryArena& arena);
-  /// Marks the surfels of the last inactive prediction as updated in `frame`, in the current array, and waits.
+  /// Marks the surfels of the last inactive prediction as updated in `frame`, in the current array, and waits;
+  /// the next frame visits the whole map (MapBuffers::visitWholeMapNextFrame), so they rejoin the active range.
   void apply(std::uint32_t frame);
 
  private:

@@ -85,6 +85,18 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial, 
     agreed += closure == 3.0 ? 1.0 : 0.0;
     EXPECT_EQ(closure == 2.0, table.at(i, "closure_refusal") != 0.0) << "a refusal names its test, row " << i;
     evicted += table.at(i, "evicted");
+    EXPECT_LE(table.at(i, "active_surfels"), table.at(i, "surfels")) << "row " << i;
+    // The map update's GPU stages: lavapipe has timestamps; a fused frame times all four, a lost one the last two.
+    const bool fused = state != 2.0;
+    for (const char* stage : {"fusion_gpu_ms", "maintenance_gpu_ms", "prediction_gpu_ms", "reference_gpu_ms"}) {
+      const bool measured =
+          fused || std::string(stage) == "prediction_gpu_ms" || std::string(stage) == "reference_gpu_ms";
+      if (measured) {
+        EXPECT_GE(table.at(i, stage), 0.0) << stage << ", row " << i;
+      } else {
+        EXPECT_EQ(table.at(i, stage), -1.0) << stage << ", row " << i;
+      }
+    }
     if (i == 0) continue;  // the first frame starts the map: nothing to track against
     EXPECT_GT(table.at(i, "t_ns"), table.at(i - 1, "t_ns")) << "row " << i;
     if (state == 0.0) {
@@ -102,6 +114,18 @@ void expectFramesCsvMatchesTheReport(const std::string& run_dir, bool inertial, 
     EXPECT_EQ(longest_run[s], r.at("tracking_states").at(names[s]).at("longest_run").get<double>()) << names[s];
   }
   EXPECT_EQ(table.at(table.rows.size() - 1, "surfels"), r.at("surfels").get<double>());
+  // The budget: stage means that add up, and the GPU stages ranked by their mean.
+  const nlohmann::json& wall = r.at("ms_per_frame");
+  EXPECT_NEAR(
+      wall.at("total").get<double>(),
+      wall.at("preprocess").get<double>() + wall.at("tracking").get<double>() + wall.at("mapping").get<double>(), 1e-9);
+  EXPECT_LE(wall.at("closure").get<double>(), wall.at("mapping").get<double>());
+  const nlohmann::json& gpu = r.at("gpu_ms_per_frame");
+  ASSERT_EQ(gpu.at("ranking").size(), 4u);
+  for (std::size_t k = 1; k < 4; ++k) {
+    EXPECT_GE(gpu.at(gpu.at("ranking")[k - 1].get<std::string>()).get<double>(),
+              gpu.at(gpu.at("ranking")[k].get<std::string>()).get<double>());
+  }
   EXPECT_EQ(evicted, r.at("map_evicted_surfels").get<double>());
   const nlohmann::json& closures = r.at("closures");
   EXPECT_EQ(accepted, closures.at("accepted").get<double>());

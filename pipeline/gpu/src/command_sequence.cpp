@@ -32,6 +32,15 @@ void CommandRecorder::computeBarrier() {
   vkCmdPipelineBarrier(cmd_, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
+void CommandRecorder::resetQueries(VkQueryPool pool, uint32_t first, uint32_t count) {
+  vkCmdResetQueryPool(cmd_, pool, first, count);
+}
+
+void CommandRecorder::writeTimestamp(VkQueryPool pool, uint32_t slot) {
+  // Bottom of pipe: the value is taken once every earlier command has completed.
+  vkCmdWriteTimestamp(cmd_, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool, slot);
+}
+
 void CommandRecorder::hostReadBarrier() {
   VkMemoryBarrier barrier{};
   barrier.sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER;
@@ -70,7 +79,8 @@ std::unique_ptr<CommandSequence> CommandSequence::create(GpuContext& context, st
   allocate_info.commandPool = s.pool_;
   allocate_info.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   allocate_info.commandBufferCount = 1;
-  checkVk(vkAllocateCommandBuffers(device, &allocate_info, &s.command_buffer_), "allocating the command buffer of " + where);
+  checkVk(vkAllocateCommandBuffers(device, &allocate_info, &s.command_buffer_),
+          "allocating the command buffer of " + where);
 
   VkSemaphoreTypeCreateInfo type_info{};
   type_info.sType = VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO;
@@ -87,7 +97,8 @@ CommandSequence::~CommandSequence() {
   const VkDevice device = context_.device();
   if (timeline_ != VK_NULL_HANDLE) {
     if (last_submitted_ > 0) {
-      const VkSemaphoreWaitInfo wait_info{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO, nullptr, 0, 1, &timeline_, &last_submitted_};
+      const VkSemaphoreWaitInfo wait_info{
+          VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO, nullptr, 0, 1, &timeline_, &last_submitted_};
       vkWaitSemaphores(device, &wait_info, UINT64_MAX);
     }
     vkDestroySemaphore(device, timeline_, nullptr);

@@ -16,6 +16,14 @@ double msSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+/// Timestamp slots of one map-update sequence (recordMapUpdate): the boundaries of its stages.
+constexpr std::uint32_t kSlotStart = 0;
+constexpr std::uint32_t kSlotFused = 1;
+constexpr std::uint32_t kSlotMaintained = 2;
+constexpr std::uint32_t kSlotPredicted = 3;
+constexpr std::uint32_t kSlotEnd = 4;
+constexpr std::uint32_t kMapStageSlots = 5;
+
 }  // namespace
 
 SlamMode slamModeFromName(const std::string& name) {
@@ -117,6 +125,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   reference_fill_->build(*arena_);
   map_->reset(*arena_);
   if (loop_closure_) loop_closure_->build(*arena_);
+  timestamps_ = std::make_unique<gpu::TimestampPool>(context, 2 * kMapStageSlots);
   for (int parity = 0; parity < 2; ++parity) {
     update_[parity] = gpu::CommandSequence::create(context, "slam.update" + std::to_string(parity));
     update_[parity]->record([&](gpu::CommandRecorder& recorder) { recordMapUpdate(recorder, parity, true); });
@@ -130,16 +139,27 @@ Slam::~Slam() = default;
 // Fusion reads surfel array `parity` and the compaction writes the survivors to the other one, which
 // the prediction renders. The predicted maps are then copied into the tracker's reference view, and a fused
 // frame fills its holes for the photometric term.
+// Timestamps mark the stage boundaries (kSlot*): the fused sequence writes slots [0, kMapStageSlots), the
+// predict-only one the next kMapStageSlots, every slot in both so that one read gets them all.
 void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const {
+  const std::uint32_t base = fuse ? 0 : kMapStageSlots;
+  timestamps_->recordReset(recorder, base, kMapStageSlots);
+  timestamps_->recordWrite(recorder, base + kSlotStart);
   int predicted_parity = parity;
   if (fuse) {
     fusion_->record(recorder, parity);
     recorder.computeBarrier();
+    timestamps_->recordWrite(recorder, base + kSlotFused);
     maintenance_->record(recorder, parity);
     recorder.computeBarrier();
+    timestamps_->recordWrite(recorder, base + kSlotMaintained);
     predicted_parity = parity ^ 1;
+  } else {
+    timestamps_->recordWrite(recorder, base + kSlotFused);
+    timestamps_->recordWrite(recorder, base + kSlotMaintained);
   }
   prediction_->record(recorder, predicted_parity);
+  timestamps_->recordWrite(recorder, base + kSlotPredicted);
   recordPredictionAsReference(recorder, *arena_, *prediction_, *tracker_);
   recorder.computeBarrier();
   if (fuse) {  // a lost frame's pose is a guess: its maps stay out of the reference too
@@ -151,7 +171,21 @@ void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse
     }
   }
   tracker_->recordReferenceIntensity(recorder);
+  timestamps_->recordWrite(recorder, base + kSlotEnd);
   recorder.hostReadBarrier();
+}
+
+MapStageTimes Slam::readMapStages(bool fused) const {
+  MapStageTimes times;
+  std::array<std::uint64_t, kMapStageSlots> ticks{};
+  if (!timestamps_->read(fused ? 0 : kMapStageSlots, ticks)) return times;
+  if (fused) {
+    times.fusion_ms = timestamps_->msBetween(ticks[kSlotStart], ticks[kSlotFused]);
+    times.maintenance_ms = timestamps_->msBetween(ticks[kSlotFused], ticks[kSlotMaintained]);
+  }
+  times.prediction_ms = timestamps_->msBetween(ticks[kSlotMaintained], ticks[kSlotPredicted]);
+  times.reference_ms = timestamps_->msBetween(ticks[kSlotPredicted], ticks[kSlotEnd]);
+  return times;
 }
 
 namespace {
@@ -353,6 +387,7 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
   prediction_->setView(T_W_reference_.inverse(), frame_index_);
   if (result.lost()) {
     predict_only_[parity]->run();
+    result.map_stages = readMapStages(false);
   } else {
     map::FusionPoseUncertainty uncertainty;
     if (result.tracking == TrackingState::kImuCarried) {
@@ -362,6 +397,7 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
     fusion_->setFrame(result.T_W_C, frame_index_, uncertainty);
     maintenance_->setView(T_C_W, frame_index_);
     update_[parity]->run();
+    result.map_stages = readMapStages(true);
     map_->flip();
     result.map_evicted = maintenance_->stats().evicted_when_full;
     result.coverage = reference_fill_->coverage().share();
@@ -372,6 +408,7 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
   }
   const map::MapState state = map_->readState(*arena_);
   result.surfels = state.surfel_count;
+  result.active_surfels = state.surfel_count - state.active_begin;
   result.map_overflow = state.overflow_count;
   result.T_W_O = T_W_O_;
   result.mapping_ms = msSince(map_start);

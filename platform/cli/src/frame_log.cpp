@@ -22,10 +22,12 @@ void FrameLog::add(const slam::FrameResult& result) {
                    result.used_reference_fill,
                    result.iterations,
                    result.surfels,
+                   result.active_surfels,
                    result.map_evicted,
                    result.preprocess_ms,
                    result.tracking_ms,
                    result.mapping_ms,
+                   result.map_stages,
                    result.imu_chi2,
                    result.vision_chi2,
                    result.vision_rejected,
@@ -49,21 +51,24 @@ void FrameLog::write(const std::filesystem::path& path) const {
   std::fprintf(
       file,
       "#t_ns,tracking,lost,pose_sigma_m,imu,icp_inliers,icp_candidates,rgb_inliers,coverage,fill,iterations,"
-      "surfels,evicted,preprocess_ms,tracking_ms,"
-      "mapping_ms,imu_chi2,vision_chi2,vision_rejected,closure,closure_refusal,closure_error_mm,closure_"
+      "surfels,active_surfels,evicted,preprocess_ms,tracking_ms,"
+      "mapping_ms,fusion_gpu_ms,maintenance_gpu_ms,prediction_gpu_ms,reference_gpu_ms,imu_chi2,vision_chi2,vision_"
+      "rejected,closure,closure_refusal,closure_error_mm,closure_"
       "inliers,closure_sigma_mm,closure_sigma_deg,closure_ms,closure_correction_mm,closure_correction_deg,closure_"
       "chi2,relocalised\n");
   for (const Row& r : rows_) {
     std::fprintf(file,
-                 "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%.3f,%.3f,%.3f,%.6g,%.6g,%d,%d,%d,%.3f,%.0f,%.3f,%"
+                 "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.6g,%.6g,%"
+                 "d,%d,%d,%.3f,%.0f,%.3f,%"
                  ".4f,%.1f,%.3f,%.4f,%.4g,%d\n",
                  static_cast<long long>(r.t_ns), static_cast<int>(r.tracking),
                  r.tracking == slam::TrackingState::kLost ? 1 : 0, r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers,
-                 r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0, r.iterations, r.surfels, r.evicted,
-                 r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.imu_chi2, r.vision_chi2, r.vision_rejected ? 1 : 0,
-                 r.closure, r.closure_refusal, r.closure_error_mm, r.closure_inliers, r.closure_sigma_mm,
-                 r.closure_sigma_deg, r.closure_ms, r.closure_correction_mm, r.closure_correction_deg, r.closure_chi2,
-                 r.relocalised ? 1 : 0);
+                 r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0, r.iterations, r.surfels, r.active_surfels,
+                 r.evicted, r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.map_stages.fusion_ms,
+                 r.map_stages.maintenance_ms, r.map_stages.prediction_ms, r.map_stages.reference_ms, r.imu_chi2,
+                 r.vision_chi2, r.vision_rejected ? 1 : 0, r.closure, r.closure_refusal, r.closure_error_mm,
+                 r.closure_inliers, r.closure_sigma_mm, r.closure_sigma_deg, r.closure_ms, r.closure_correction_mm,
+                 r.closure_correction_deg, r.closure_chi2, r.relocalised ? 1 : 0);
   }
   if (std::fclose(file) != 0) throw Error(temporary + ": write failed");
   std::filesystem::rename(temporary, path);

@@ -15,8 +15,11 @@
 //                         map covered too little of the view, or the frame failed against the map alone
 //   iterations            Gauss-Newton iterations over all levels
 //   surfels               surfels in the map after the frame
+//   active_surfels        of which in the active range the per-frame passes visit (map/map_buffers.hpp)
 //   evicted               inactive surfels the map-full policy evicted in the frame
 //   preprocess_ms, tracking_ms, mapping_ms      wall time of the stages [ms]
+//   fusion_gpu_ms, maintenance_gpu_ms, prediction_gpu_ms, reference_gpu_ms   the map update's GPU stages
+//                         (slam::MapStageTimes) [ms]; −1: not measured (no device timestamps, or not fused)
 //   imu_chi2              the IMU term's χ² at the solution (inertial modes; 0 otherwise)
 //   vision_chi2           how far the dense solution pulled the state from the IMU and the prior [χ²]
 //   vision_rejected       1: the dense solution failed the estimator's gate on vision_chi2 (then lost = 1)
@@ -64,8 +67,10 @@ class FrameLog {
     bool fill = false;
     int iterations = 0;
     uint32_t surfels = 0;
+    uint32_t active_surfels = 0;
     uint32_t evicted = 0;
     double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0;
+    slam::MapStageTimes map_stages;
     double imu_chi2 = 0.0;
     double vision_chi2 = 0.0;
     bool vision_rejected = false;

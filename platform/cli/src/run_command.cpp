@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "closure_judge.hpp"
+#include "frame_budget.hpp"
 #include "frame_log.hpp"
 #include "progress_bar.hpp"
 #include "run_source.hpp"
@@ -162,7 +163,8 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   TrackingStateCounts states_seen;
   ClosureCounts closures;
   ClosureJudge closure_judge(reader->groundTruth());
-  double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
+  FrameBudget budget;
+  double iterations = 0.0;
   uint32_t surfels = 0, map_overflow = 0;
   uint64_t map_evicted = 0;
   ProgressBar progress("tracking", static_cast<int64_t>(reserved));
@@ -188,9 +190,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
     }
     states_seen.add(result.tracking);
     relocalisations += result.relocalised ? 1 : 0;
-    preprocess_ms += result.preprocess_ms;
-    tracking_ms += result.tracking_ms;
-    mapping_ms += result.mapping_ms;
+    budget.add(result);
     surfels = result.surfels;
     map_overflow = result.map_overflow;
     map_evicted += result.map_evicted;
@@ -252,10 +252,8 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
                              {"relocalisations", relocalisations},
                              {"keyframes", pipeline.keyframes()}}},
                            {"frames_with_imu_issues", imu_issues},
-                           {"ms_per_frame",
-                            {{"preprocess", mean(preprocess_ms, frames)},
-                             {"tracking", mean(tracking_ms, frames)},
-                             {"mapping", mean(mapping_ms, frames)}}},
+                           {"ms_per_frame", budget.wallJson()},
+                           {"gpu_ms_per_frame", budget.gpuJson()},
                            {"surfels", surfels},
                            {"map_overflow_surfels", map_overflow},
                            {"map_evicted_surfels", map_evicted},

@@ -35,6 +35,9 @@ class CommandRecorder {
   void hostReadBarrier();
   void copyBuffer(const GpuBuffer& source, const GpuBuffer& destination, uint64_t bytes);
   void fillBuffer(const GpuBuffer& destination, uint32_t value);
+  /// Query commands for TimestampPool (timestamp_pool.hpp).
+  void resetQueries(VkQueryPool pool, uint32_t first, uint32_t count);
+  void writeTimestamp(VkQueryPool pool, uint32_t slot);
 
  private:
   VkCommandBuffer cmd_;

@@ -36,6 +36,9 @@ struct GpuFeatures {
   uint32_t max_shared_memory_bytes = 0;
   uint32_t max_memory_allocations = 0;
   bool unified_memory = false;  ///< a memory type is both DEVICE_LOCAL and HOST_VISIBLE
+  /// Valid bits of the compute queue's timestamps (0: no timestamp queries, callers time on the CPU)
+  uint32_t timestamp_valid_bits = 0;
+  double timestamp_period_ns = 0.0;  ///< nanoseconds per timestamp tick (limits.timestampPeriod)
 };
 
 const char* deviceTypeName(VkPhysicalDeviceType type);

@@ -26,6 +26,7 @@
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/gpu/memory_arena.hpp"
+#include "vifusion/gpu/timestamp_pool.hpp"
 #include "vifusion/map/map_buffers.hpp"
 #include "vifusion/map/map_export.hpp"
 #include "vifusion/map/map_maintenance.hpp"
@@ -74,6 +75,17 @@ struct SlamOptions {
   void validate() const;
 };
 
+/// The map update's stages on the GPU [ms], from device timestamps around them in the frame's map-update
+/// submission (gpu/timestamp_pool.hpp); −1 where the device has no timestamps, and fusion and maintenance −1 for
+/// a frame that was not fused. Their sum is the submission's GPU time; FrameResult::mapping_ms adds the host's
+/// waits, the loop closure and relocalisation.
+struct MapStageTimes {
+  double fusion_ms = -1.0;       ///< index map, association, fusion, new surfels
+  double maintenance_ms = -1.0;  ///< cleanup and compaction
+  double prediction_ms = -1.0;   ///< the active model's prediction, every pyramid level
+  double reference_ms = -1.0;    ///< the prediction into the tracker's reference view, coverage, fill-in, gradients
+};
+
 struct FrameResult {
   int64_t t_ns = 0;
   SE3d T_W_C;                                        ///< camera pose in the map world (first camera frame)
@@ -89,14 +101,17 @@ struct FrameResult {
   /// rgbd tracking: the frame was tracked with the previous frame's fill-in (reference_fill.hpp): the map
   /// covered too little of the view, or the frame failed against the map's pixels alone
   bool used_reference_fill = false;
-  double rgb_inliers = 0.0;    ///< level-0 photometric inliers of the last iteration
-  int iterations = 0;          ///< Gauss-Newton iterations over all levels
-  uint32_t surfels = 0;        ///< surfels in the map after this frame
+  double rgb_inliers = 0.0;  ///< level-0 photometric inliers of the last iteration
+  int iterations = 0;        ///< Gauss-Newton iterations over all levels
+  uint32_t surfels = 0;      ///< surfels in the map after this frame
+  /// of which in the active range the per-frame passes visit (map_buffers.hpp): what a frame's mapping costs
+  uint32_t active_surfels = 0;
   uint32_t map_overflow = 0;   ///< surfels that did not fit so far (map-full policy: map_maintenance.hpp)
   uint32_t map_evicted = 0;    ///< inactive surfels the map-full policy evicted in this frame
   double preprocess_ms = 0.0;  ///< wall time of upload + preprocessing
   double tracking_ms = 0.0;    ///< wall time of all Gauss-Newton iterations
-  double mapping_ms = 0.0;     ///< wall time of fusion, cleanup, compaction and prediction
+  double mapping_ms = 0.0;     ///< wall time of fusion, cleanup, compaction, prediction, loop closure, relocalisation
+  MapStageTimes map_stages;    ///< the map update's GPU stages
   /// Inertial modes: the estimator holds this frame's state (tracked, or started or restarted at this
   /// frame); false in rgbd mode and while the estimator waits for IMU samples to start from.
   bool inertial = false;
@@ -155,6 +170,8 @@ class Slam {
 
  private:
   void recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const;
+  /// The stage times of the map update that just completed (the timestamps recordMapUpdate wrote).
+  MapStageTimes readMapStages(bool fused) const;
   /// Frame-to-model tracking by the dense terms alone from the constant-velocity guess, its rotation
   /// pre-aligned; after a lost frame also from the last tracked pose (recovery); with the reference fill-in
   /// where the map covers too little of the view, or as the fallback of a guess that fails against the map's
@@ -200,6 +217,7 @@ class Slam {
   std::unique_ptr<TrackerDenseTerms> dense_terms_;           ///< inertial modes
   std::unique_ptr<estimator::TwoStateEstimator> estimator_;  ///< inertial modes
   std::unique_ptr<gpu::MemoryArena> arena_;
+  std::unique_ptr<gpu::TimestampPool> timestamps_;                     ///< recordMapUpdate's stage boundaries
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> update_;        ///< per parity: fuse, clean, predict
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> predict_only_;  ///< per parity: predict (lost frames)
   uint32_t frame_index_ = 0;

@@ -143,12 +143,10 @@ class MappingLoad {
   void run() {
     try {
       slam::Slam pipeline(context(), sequence_.calibration, slam::SlamOptions{});
-      const auto n = static_cast<std::int64_t>(sequence_.frames.size());
       const std::int64_t period_ns = secondsToNs(1.0 / kCameraRateHz);
       RgbdFrame frame;
       for (std::int64_t j = 0; !stop_.load(); ++j) {
-        const std::int64_t phase = j % (2 * n - 2);
-        frame = sequence_.frames[static_cast<std::size_t>(phase < n ? phase : 2 * n - 2 - phase)];
+        frame = sequence_.frames[pingPongFrame(sequence_.frames.size(), j)];
         frame.t_ns = j * period_ns;
         frame.index = j;
         lost_ += pipeline.process(frame).lost() ? 1 : 0;

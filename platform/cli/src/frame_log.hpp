@@ -15,7 +15,8 @@
 //                         map covered too little of the view, or the frame failed against the map alone
 //   iterations            Gauss-Newton iterations over all levels
 //   surfels               surfels in the map after the frame
-//   active_surfels        of which in the active range the per-frame passes visit (map/map_buffers.hpp)
+//   active_surfels        of which in the active range the next frame's passes visit (map/map_buffers.hpp;
+//                         all after a loop closure moved or reactivated surfels)
 //   evicted               inactive surfels the map-full policy evicted in the frame
 //   preprocess_ms, tracking_ms, mapping_ms      wall time of the stages [ms]
 //   fusion_gpu_ms, maintenance_gpu_ms, prediction_gpu_ms, reference_gpu_ms   the map update's GPU stages

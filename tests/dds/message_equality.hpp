@@ -159,6 +159,9 @@ inline void expectSame(const msg::Status& a, const msg::Status& b, const std::st
   EXPECT_EQ(a.heartbeat, b.heartbeat) << path << ".heartbeat";
   EXPECT_EQ(a.frame_rate_hz, b.frame_rate_hz) << path << ".frame_rate_hz";
   EXPECT_EQ(a.latency_ms, b.latency_ms) << path << ".latency_ms";
+  EXPECT_EQ(a.latency_p50_ms, b.latency_p50_ms) << path << ".latency_p50_ms";
+  EXPECT_EQ(a.latency_p99_ms, b.latency_p99_ms) << path << ".latency_p99_ms";
+  EXPECT_EQ(a.latency_max_ms, b.latency_max_ms) << path << ".latency_max_ms";
   expectSame(a.camera_ring, b.camera_ring, path + ".camera_ring");
   expectSame(a.imu_ring, b.imu_ring, path + ".imu_ring");
   expectSame(a.output_ring, b.output_ring, path + ".output_ring");

@@ -84,6 +84,9 @@ SampleMessages::SampleMessages() {
   status.heartbeat = std::numeric_limits<std::uint64_t>::max();
   status.frame_rate_hz = 29.97f;
   status.latency_ms = 12.5f;
+  status.latency_p50_ms = 11.25f;
+  status.latency_p99_ms = 31.5f;
+  status.latency_max_ms = 64.0f;
   status.camera_ring = {3, 8, 17};
   status.imu_ring = {120, 1024, 0};
   status.output_ring = {1, 4, std::numeric_limits<std::uint64_t>::max() - 1};

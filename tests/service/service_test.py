@@ -88,12 +88,16 @@ def check_status_command():
     for _ in range(5):
         result = subprocess.run([f"{BIN}/vifusion", "status", "--timeout", "3", *ECHO_ARGS],
                                 capture_output=True, text=True, timeout=30)
-        summary = re.search(r"^vifusiond: \w+, [\d.]+ frames/s, latency \d+ ms, (\d+) frames \((\d+) lost, "
+        summary = re.search(r"^vifusiond: \w+, [\d.]+ frames/s, latency \d+ ms \(p50 \d+, p99 \d+, max \d+\), (\d+) frames \((\d+) lost, "
                             r"(\d+) IMU-carried, (\d+) without usable IMU\), \d+ surfels, \d+ loop closures \(\d+ agreed, \d+ refused\), \d+ relocalisations, "
                             r"camera ring \d+/\d+ \(\d+ overruns\)",
                             result.stdout, re.MULTILINE)
         if result.returncode == 0 and summary and "health: OK" in result.stdout:
             print(f"vifusion status:\n{result.stdout}", end="", flush=True)
+            # Sensor time (the paced replay's schedule) to published pose: at least one frame's processing.
+            p50, p99, peak = (int(v) for v in re.search(r"\(p50 (\d+), p99 (\d+), max (\d+)\)", result.stdout).groups())
+            if not 0 < p50 <= p99 <= peak:
+                fail(f"vifusion status: latency percentiles p50 {p50}, p99 {p99}, max {peak} ms out of order or zero")
             return
         time.sleep(0.5)
     fail(f"vifusion status never reported the running service healthy (exit {result.returncode}):\n"

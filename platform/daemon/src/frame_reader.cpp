@@ -43,6 +43,9 @@ void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState&
       }
       if (recorder != nullptr) recorder->pushFrame(slot.frame);
       slot.read_ns = monotonicNowNs();
+      slot.sensor_ns = source.live() ? slot.frame.t_ns
+                       : paced       ? start_ns + (slot.frame.t_ns - first_t_ns)
+                                     : slot.read_ns;
       // Swapping hands the frame over and gets a recycled slot back, its buffers already sized.
       state.frames.tryPush(std::move(slot));
     }

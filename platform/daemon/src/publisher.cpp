@@ -95,7 +95,7 @@ void Publisher::publishPose(const PoseResult& result) {
       dds::makeTransformStamped(result.t_ns, world, odom, result.T_W_O),
       dds::makeTransformStamped(result.t_ns, odom, camera, T_O_C)};
   tf_.write(dds::makeTfMessage(transforms));
-  latency_ms_ = static_cast<float>(nsToSeconds(monotonicNowNs() - result.read_ns) * 1e3);
+  latency_.add(static_cast<float>(nsToSeconds(monotonicNowNs() - result.sensor_ns) * 1e3));
   last_ = result;
   last_T_O_C_ = T_O_C;
   have_last_ = true;
@@ -118,7 +118,11 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.header = dds::makeHeader(last_.t_ns, config_.dds.camera_frame.c_str());
   status.heartbeat = ++heartbeat_;
   status.frame_rate_hz = rate_hz;
-  status.latency_ms = latency_ms_;
+  const LatencySummary latency = latency_.summary();
+  status.latency_ms = latency.last_ms;
+  status.latency_p50_ms = latency.p50_ms;
+  status.latency_p99_ms = latency.p99_ms;
+  status.latency_max_ms = latency.max_ms;
   status.camera_ring = counters(state_.frames.size(), state_.frames.capacity(), state_.frames.overruns());
   // The live camera's motion-module ring; recorded sources have none (they hand over their whole stream).
   status.imu_ring =

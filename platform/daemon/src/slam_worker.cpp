@@ -62,6 +62,7 @@ void SlamWorker::run() {
       PoseResult output;
       output.t_ns = result.t_ns;
       output.read_ns = slot.read_ns;
+      output.sensor_ns = slot.sensor_ns;
       output.done_ns = monotonicNowNs();
       output.T_W_C = result.T_W_C;
       output.T_W_O = result.T_W_O;

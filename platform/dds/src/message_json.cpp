@@ -245,6 +245,9 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "heartbeat", message.heartbeat);
   field(json, "frame_rate_hz", message.frame_rate_hz);
   field(json, "latency_ms", message.latency_ms);
+  field(json, "latency_p50_ms", message.latency_p50_ms);
+  field(json, "latency_p99_ms", message.latency_p99_ms);
+  field(json, "latency_max_ms", message.latency_max_ms);
   object(json, "camera_ring", message.camera_ring);
   object(json, "imu_ring", message.imu_ring);
   object(json, "output_ring", message.output_ring);

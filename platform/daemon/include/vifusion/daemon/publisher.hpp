@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "vifusion/config/daemon_config.hpp"
+#include "vifusion/core/latency_window.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/dds/conversions.hpp"
 #include "vifusion/dds/participant.hpp"
@@ -71,7 +72,7 @@ class Publisher {
   PoseResult last_{};
   SE3d last_T_O_C_;  ///< the odometry pose of last_
   bool have_last_ = false;
-  float latency_ms_ = 0.0f;
+  LatencyWindow latency_;  ///< sensor time → pose published, the last frames [ms]
   /// (host time [ns], frames processed) at the last status messages, for a ~1 s frame-rate window.
   static constexpr std::size_t kRateWindow = 32;
   std::array<std::pair<std::int64_t, std::uint64_t>, kRateWindow> rate_samples_{};

@@ -17,20 +17,24 @@
 
 namespace vifusion::daemon {
 
-/// One camera ring slot: the frame and when the reader handed it over (host CLOCK_MONOTONIC [ns]).
+/// One camera ring slot: the frame, when the reader handed it over and its sensor time, both on the host's
+/// CLOCK_MONOTONIC [ns]. Sensor time: a live camera's stamp (mid-exposure, already on the host clock), a paced
+/// replay's schedule (when the frame would have been exposed), an unpaced replay's hand-over (it has none).
 struct FrameSlot {
   RgbdFrame frame;
   std::int64_t read_ns = 0;
+  std::int64_t sensor_ns = 0;
 };
 
 /// One output ring slot: small and fixed-size (no pointers, no heap), so the hand-off copies a few
 /// hundred bytes. The estimator's state rides along in the inertial modes.
 struct PoseResult {
-  std::int64_t t_ns = 0;     ///< frame stamp (the source's time base) [ns]
-  std::int64_t read_ns = 0;  ///< host time the reader handed the frame over [ns]
-  std::int64_t done_ns = 0;  ///< host time the SLAM thread finished it [ns]
-  SE3d T_W_C;                ///< camera pose in the map world
-  SE3d T_W_O;                ///< map → odom (slam::FrameResult::T_W_O): moves only at a loop closure
+  std::int64_t t_ns = 0;       ///< frame stamp (the source's time base) [ns]
+  std::int64_t read_ns = 0;    ///< host time the reader handed the frame over [ns]
+  std::int64_t sensor_ns = 0;  ///< FrameSlot::sensor_ns: the latency's start [ns]
+  std::int64_t done_ns = 0;    ///< host time the SLAM thread finished it [ns]
+  SE3d T_W_C;                  ///< camera pose in the map world
+  SE3d T_W_O;                  ///< map → odom (slam::FrameResult::T_W_O): moves only at a loop closure
   slam::TrackingState tracking = slam::TrackingState::kTracked;  ///< slam::FrameResult::tracking
   /// Inertial modes: `state` and `state_variance` hold the estimator's state at this frame
   /// (slam::FrameResult::inertial); false in rgbd mode and while the estimator waits to start.

@@ -42,7 +42,7 @@ SE3d trackTimed(StepPipeline& p, const SE3d& guess, StepTimes& t) {
       const Vector6d delta = ldlt.solve(-system.b);
       if (!delta.allFinite()) return T_ref_cur;
       T_ref_cur = SE3d::exp(delta) * T_ref_cur;
-      if (delta.head<3>().norm() < o.converged_step && delta.tail<3>().norm() < o.converged_step) break;
+      if (stepWithinUncertainty(delta, system.H, o.converged_step_chi2)) break;
     }
   }
   return T_ref_cur;

@@ -18,7 +18,7 @@ void EstimatorOptions::validate() const {
   for (int l = 0; l < 3; ++l) {
     if (iterations[l] < 0 || iterations[l] > 100) throw Error("estimator option 'iterations' must be 0..100 per level");
   }
-  if (!(converged_step >= 0.0)) throw Error("estimator option 'converged_step' must be ≥ 0");
+  if (!(converged_step_chi2 > 0.0)) throw Error("estimator option 'converged_step_chi2' must be > 0");
   if (inertial_only_iterations < 1 || inertial_only_iterations > 100) {
     throw Error("estimator option 'inertial_only_iterations' must be 1..100");
   }

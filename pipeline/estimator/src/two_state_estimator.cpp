@@ -196,11 +196,7 @@ bool TwoStateEstimator::solveDense(DenseTerms& dense, Vector36d& step, FrameSolv
       buildSystem(&system, x1_estimated_);
       if (!solveAndUpdate(step)) return false;
       ++summary.iterations;
-      const auto pose_step = step.segment<6>(kStateDim + kIdxR);
-      if (pose_step.head<3>().norm() < options_.converged_step &&
-          pose_step.tail<3>().norm() < options_.converged_step) {
-        break;
-      }
+      if (stepWithinUncertainty(step.segment<6>(kStateDim + kIdxR), system.H, options_.converged_step_chi2)) break;
     }
   }
   return dense.healthy();

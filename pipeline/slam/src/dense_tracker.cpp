@@ -14,7 +14,8 @@ void TrackerOptions::validate() const {
   for (int l = 0; l < levels; ++l) {
     if (iterations[l] < 0 || iterations[l] > 100) throw Error("tracker option 'iterations' must be 0..100 per level");
   }
-  if (!(converged_step >= 0.0)) throw Error("tracker option 'converged_step' must be ≥ 0");
+  if (!(converged_step_chi2 > 0.0)) throw Error("tracker option 'converged_step_chi2' must be > 0");
+  if (!(rotation_converged_step_rad >= 0.0)) throw Error("tracker option 'rotation_converged_step_rad' must be ≥ 0");
   if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction < 1.0)) {
     throw Error("tracker option 'min_inlier_fraction' must be in [0, 1)");
   }
@@ -65,8 +66,8 @@ DenseTracker::DenseTracker(gpu::GpuContext& context, gpu::CapacityPlan& plan, co
   }
   icp_ = std::make_unique<tracking::IcpTerm>(context, plan, options_.levels, options_.icp);
   photometric_ = std::make_unique<tracking::PhotometricTerm>(context, plan, options_.levels, options_.photometric);
-  rotation_ = std::make_unique<RotationPrealignment>(context, plan, *stage_, options_.photometric,
-                                                     options_.rotation_iterations, options_.converged_step);
+  rotation_ = std::make_unique<RotationPrealignment>(
+      context, plan, *stage_, options_.photometric, options_.rotation_iterations, options_.rotation_converged_step_rad);
 }
 
 DenseTracker::~DenseTracker() = default;
@@ -220,7 +221,7 @@ TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess, ReferencePixels 
       T_ref_cur = SE3d::exp(delta) * T_ref_cur;
       ++result.iterations;
       if (l == 0) result.H = system.H;
-      if (delta.head<3>().norm() < options_.converged_step && delta.tail<3>().norm() < options_.converged_step) break;
+      if (stepWithinUncertainty(delta, system.H, options_.converged_step_chi2)) break;
     }
   }
   // A correction of the constant-velocity guess that no camera could make (max_motion_innovation_m)

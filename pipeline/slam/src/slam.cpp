@@ -104,7 +104,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
     estimator_options.mode =
         mode_ == SlamMode::kGyro ? estimator::InertialMode::kGyro : estimator::InertialMode::kRgbdInertial;
     estimator_options.iterations = options.tracker.iterations;
-    estimator_options.converged_step = options.tracker.converged_step;
+    estimator_options.converged_step_chi2 = options.tracker.converged_step_chi2;
     imu::ImuOptions imu_options = options.imu;
     imu_options.noise = calibration.imu;
     estimator_ = std::make_unique<estimator::TwoStateEstimator>(estimator_options, imu_options, calibration.T_S_C);

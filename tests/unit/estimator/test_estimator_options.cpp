@@ -25,7 +25,7 @@ TEST(EstimatorOptions, ValidationNamesTheField) {
     vifusion::test::expectError([&] { options.validate(); }, "'" + field + "'");
   };
   expectRejected([](EstimatorOptions& o) { o.iterations[1] = -1; }, "iterations");
-  expectRejected([](EstimatorOptions& o) { o.converged_step = -1.0; }, "converged_step");
+  expectRejected([](EstimatorOptions& o) { o.converged_step_chi2 = 0.0; }, "converged_step_chi2");
   expectRejected([](EstimatorOptions& o) { o.inertial_only_iterations = 0; }, "inertial_only_iterations");
   expectRejected([](EstimatorOptions& o) { o.vision_gate_chi2 = 0.0; }, "vision_gate_chi2");
   expectRejected([](EstimatorOptions& o) { o.max_inlier_loss = 0.0; }, "max_inlier_loss");

@@ -7,6 +7,8 @@
 #include <numbers>
 #include <string>
 
+#include "vifusion/core/step_convergence.hpp"
+
 namespace vifusion::estimator {
 
 /// The paper's ablations besides RGB-D only (which does not use this estimator).
@@ -24,8 +26,10 @@ struct EstimatorOptions {
   /// Gauss-Newton iterations per pyramid level, finest first; the slam library copies the dense
   /// tracker's (10, 5, 4) so both modes run the same schedule. Levels beyond the dense terms' are unused.
   std::array<int, 3> iterations = {10, 5, 4};
-  /// A level stops early when x1's pose step is below this (translation [m] and rotation [rad]).
-  double converged_step = 1e-5;
+  /// A level stops early when x1's pose step is within the dense terms' uncertainty: its squared Mahalanobis
+  /// length under their information below this (core/step_convergence.hpp; the slam library copies the dense
+  /// tracker's). > 0.
+  double converged_step_chi2 = kChi2SixDofQuantile001;
   /// A Gauss-Newton step after which the dense terms keep fewer than (1 − this) of their inliers is taken
   /// back and its pyramid level ends there: the solve is leaving the dense terms' basin. white_wall at
   /// 640×480 on the way back from the wall (0.28 m of drift): level 0 walked 2.4 m along the wall in seven

@@ -14,6 +14,7 @@
 #include "vifusion/core/rig_calibration.hpp"
 #include "vifusion/core/se3.hpp"
 #include "vifusion/core/sensor_data.hpp"
+#include "vifusion/core/step_convergence.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/gpu/memory_arena.hpp"
@@ -28,8 +29,9 @@ struct TrackerOptions {
   int levels = 3;
   /// Gauss-Newton iterations per level, finest first (ElasticFusion: 10, 5, 4).
   std::array<int, 3> iterations = {10, 5, 4};
-  /// Stop a level early when the step is below this (translation [m] and rotation [rad]).
-  double converged_step = 1e-5;
+  /// Stop a level early when the step's squared Mahalanobis length under the dense terms' information is
+  /// below this (core/step_convergence.hpp: the step is within the estimate's own noise). > 0.
+  double converged_step_chi2 = kChi2SixDofQuantile001;
   bool use_photometric = true;
   /// ElasticFusion's rotation-only pre-alignment (rotation_prealignment.hpp): before the six-parameter
   /// solve, the guess's rotation is refined against the previous frame's coarse intensity images by the
@@ -37,8 +39,9 @@ struct TrackerOptions {
   /// the map does not cover yet, where the constant-velocity guess is degrees off after a lost frame.
   bool rotation_prealignment = true;
   /// Gauss-Newton iterations of the pre-alignment per level (ElasticFusion: 10 at its one level); a level
-  /// stops earlier at converged_step.
+  /// stops earlier when its rotation step is below rotation_converged_step_rad [rad].
   int rotation_iterations = 10;
+  double rotation_converged_step_rad = 1e-5;
   /// Filter, pyramid and normal settings; camera, levels and depth scale are set by the tracker.
   preprocess::PreprocessOptions preprocess;
   tracking::IcpOptions icp;

@@ -76,6 +76,12 @@ void parseOptions(int& argc, char** argv) {
       o.photometric = parseBool("--photometric", value);
     } else if (parseFlag(argv[i], "--opencv", value)) {
       o.opencv = parseBool("--opencv", value);
+    } else if (parseFlag(argv[i], "--open3d", value)) {
+      o.open3d = parseBool("--open3d", value);
+    } else if (parseFlag(argv[i], "--mode", value)) {
+      // gyro mode is `vifusion run`'s experiment, not a configuration this benchmark measures.
+      if (value != "rgbd" && value != "rgbdi") throw Error("--mode: expected rgbd or rgbdi, got '" + value + "'");
+      o.mode = value;
     } else if (parseFlag(argv[i], "--trajectory_dir", value)) {
       o.trajectory_dir = value;
     } else if (parseFlag(argv[i], "--steps", value)) {
@@ -85,7 +91,7 @@ void parseOptions(int& argc, char** argv) {
         std::printf(
             "bench_rgbd_slam [--frames=%d] [--sizes=640x480,320x240] [--data_dir=%s]\n"
             "                [--vifusion=%s] [--noise=1] [--photometric=1] [--opencv=1]\n"
-            "                [--steps=1] [--trajectory_dir=DIR]\n"
+            "                [--open3d=1] [--mode=rgbd|rgbdi] [--steps=1] [--trajectory_dir=DIR]\n"
             "                [Google Benchmark flags]\n\n",
             o.frames, o.data_dir.c_str(), o.vifusion.c_str());
       }

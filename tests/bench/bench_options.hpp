@@ -27,6 +27,8 @@ struct BenchOptions {
   bool noise = true;                               ///< ICL-NUIM-style sensor noise (sim's default); 0: --no-noise
   bool photometric = true;                         ///< TrackerOptions::use_photometric (0: ICP only)
   bool opencv = true;                              ///< run cv::rgbd::RgbdICPOdometry for comparison
+  bool open3d = true;                              ///< run Open3D's tensor dense SLAM for comparison
+  std::string mode = "rgbd";                       ///< slam::SlamMode by name: rgbd, or rgbdi (with the IMU)
   bool steps = true;                               ///< register the per-step entries
   std::string trajectory_dir;                      ///< non-empty: write the estimated trajectories (TUM) here
 };

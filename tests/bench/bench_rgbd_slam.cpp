@@ -1,30 +1,36 @@
 // The whole RGB-D pipeline (slam::Slam: preprocessing, frame-to-model tracking, fusion, map upkeep
-// and prediction) on the synthetic living room, at 640×480 and 320×240, beside OpenCV's frame-to-frame
-// cv::rgbd::RgbdICPOdometry on the same frames, with the ATE of both against the simulator's ground
-// truth, so that speed is never compared at broken accuracy. The goals (not tests): ≥ 15 frames/s
-// at 640×480 and ≥ 30 at 320×240 on 2 cores via lavapipe.
+// and prediction) on the synthetic living room, at 640×480 and 320×240, beside two peers on the same
+// frames: OpenCV's frame-to-frame cv::rgbd::RgbdICPOdometry and Open3D's frame-to-model tensor dense
+// SLAM, with the ATE of all three against the simulator's ground truth, so that speed is never compared
+// at broken accuracy. The goals (not tests): ≥ 15 frames/s at 640×480 and ≥ 30 at 320×240 on
+// 2 cores via lavapipe.
 //
 //   bench_rgbd_slam [--frames=90] [--sizes=640x480,320x240] [--data_dir=DIR] [--vifusion=PATH]
-//                   [--noise=1] [--photometric=1] [--opencv=1] [--steps=1] [--trajectory_dir=DIR]
+//                   [--noise=1] [--photometric=1] [--opencv=1] [--open3d=1] [--mode=rgbd|rgbdi]
+//                   [--steps=1] [--trajectory_dir=DIR]
 //                   --benchmark_out=slam.json --benchmark_out_format=json
 //
 // The sequence (`vifusion sim --preset living_room_0`, the first `frames` frames at each size, with
 // the simulator's sensor noise unless --noise=0) is generated once into --data_dir and reused; every
 // frame is decoded into memory before timing. --photometric=0 tracks with ICP only; --trajectory_dir
-// writes both estimates as TUM files.
+// writes the estimates as TUM files. --mode=rgbdi runs SlamMode::kRgbdInertial with the sequence's whole
+// IMU stream given with every frame (as `vifusion run` does); the peers use the camera only.
 // Entries, one per size:
-//   rgbd_slam/living_room_0/WxH   one iteration per frame after the first (which defines W, starts
-//       the map and warms up); real_time = wall time per frame. Counters: ms_preprocess, ms_tracking,
-//       ms_mapping, ms_total (mean per timed frame), fps, gn_iterations, ms_per_gn_iteration,
-//       lost_frames, surfels (at the end), map_overflow, arena_bytes, ate_m (all frames);
+//   rgbd_slam/living_room_0/WxH (rgbd_slam_rgbdi/… with --mode=rgbdi)   one iteration per frame after
+//       the first (which defines W, starts the map and warms up); real_time = wall time per frame.
+//       Counters: ms_preprocess, ms_tracking, ms_mapping, ms_total (mean per timed frame), fps,
+//       gn_iterations, ms_per_gn_iteration, lost_frames, surfels (at the end), map_overflow,
+//       arena_bytes, ate_m (all frames);
 //       opencv_ms, opencv_ate_m, opencv_failed_frames, opencv_threads; ratio = ms_total/opencv_ms,
-//       ratio_odometry = (ms_preprocess + ms_tracking)/opencv_ms; goal_fps and goal_met (1/0).
+//       ratio_odometry = (ms_preprocess + ms_tracking)/opencv_ms; open3d_ms, open3d_ate_m,
+//       open3d_failed_frames, open3d_threads, ratio_open3d = ms_total/open3d_ms; goal_fps and goal_met (1/0).
 //       cpu_ms_total: process CPU time per frame (lavapipe's threads included), for A/B runs on a
 //       shared machine, where wall time follows the other load.
-//   rgbd_slam_steps/living_room_0/WxH   the same frames through every kernel of the pipeline, one
-//       step per submission (each step's wall time includes a submit and a wait, ≈ 20 µs on
-//       lavapipe, so the steps add up to a little more than the fused per-frame sequences), fused at
-//       the ground-truth poses: ms_upload, ms_pre_<step>, ms_fusion_<step>, ms_map_cleanup,
+//   rgbd_slam_steps/living_room_0/WxH   (rgbd whatever --mode: a kernel profile) the same frames
+//       through every kernel of the pipeline, one step per submission (each step's wall time includes
+//       a submit and a wait, ≈ 20 µs on lavapipe, so the steps add up to a little more than the fused
+//       per-frame sequences), fused at the ground-truth poses: ms_upload, ms_pre_<step>,
+//       ms_fusion_<step>, ms_map_cleanup,
 //       ms_map_compaction, ms_map_prediction, ms_reference_copy, ms_reference_gradients, and the
 //       tracking terms per level summed over the frame's Gauss-Newton iterations
 //       (ms_track_{icp,photometric}_l<l>, gn_iterations_l<l>); each with its CPU time (cpu_<name>).
@@ -42,13 +48,16 @@
 #include <cstdio>
 #include <exception>
 #include <opencv2/core.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "vifusion/core/error.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/slam/slam.hpp"
 #include "bench_options.hpp"
 #include "bench_sequence.hpp"
+#include "open3d_slam.hpp"
 #include "opencv_odometry.hpp"
 #include "rgbd_slam_steps.hpp"
 #include "timing.hpp"
@@ -62,11 +71,18 @@ void rgbdSlam(benchmark::State& state, Size size) {
   const Sequence& sequence = sequenceFor(size);
   slam::SlamOptions slam_options;  // defaults, as `vifusion run`
   slam_options.tracker.use_photometric = options().photometric;
+  slam_options.mode = slam::slamModeFromName(options().mode);
+  const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
+  if (inertial && sequence.imu.empty())
+    throw Error("--mode=" + options().mode + ": " + sequence.describe + " has no IMU");
+  // The whole stream with every frame, as RecordedImuFeed: Slam finds each frame's part by binary search.
+  const std::span<const ImuSample> imu =
+      inertial ? std::span<const ImuSample>(sequence.imu) : std::span<const ImuSample>();
   slam::Slam pipeline(context(), sequence.calibration, slam_options);
   std::vector<eval::StampedPose> trajectory;
   trajectory.reserve(sequence.frames.size());
   // Frame 0 defines W and only starts the map (no tracking): it is the warm-up, not timed.
-  trajectory.push_back({sequence.frames[0].t_ns, pipeline.process(sequence.frames[0]).T_W_C});
+  trajectory.push_back({sequence.frames[0].t_ns, pipeline.process(sequence.frames[0], imu).T_W_C});
 
   double preprocess_ms = 0.0, tracking_ms = 0.0, mapping_ms = 0.0, iterations = 0.0;
   int lost = 0;
@@ -75,7 +91,7 @@ void rgbdSlam(benchmark::State& state, Size size) {
   double cpu_ms = 0.0;
   for (auto _ : state) {
     const double cpu_start = processCpuMs();
-    last = pipeline.process(sequence.frames[next++]);
+    last = pipeline.process(sequence.frames[next++], imu);
     cpu_ms += processCpuMs() - cpu_start;
     trajectory.push_back({last.t_ns, last.T_W_C});
     preprocess_ms += last.preprocess_ms;
@@ -102,7 +118,7 @@ void rgbdSlam(benchmark::State& state, Size size) {
   c["map_overflow"] = last.map_overflow;
   c["arena_bytes"] = static_cast<double>(pipeline.arenaBytes());
   c["ate_m"] = eval::ate(sequence.ground_truth, trajectory).rmse_m;
-  writeTrajectory("vifusion_" + size.name(), trajectory);
+  writeTrajectory("vifusion_" + (inertial ? options().mode + "_" : std::string()) + size.name(), trajectory);
   c["goal_fps"] = goalFps(size);
   c["goal_met"] = 1000.0 / ms_total >= goalFps(size) ? 1.0 : 0.0;
   if (options().opencv) {
@@ -114,14 +130,23 @@ void rgbdSlam(benchmark::State& state, Size size) {
     c["ratio"] = ms_total / opencv.ms_per_frame;
     c["ratio_odometry"] = (preprocess_ms + tracking_ms) / timed / opencv.ms_per_frame;
   }
-  state.SetLabel(context().features().device_name);
+  if (options().open3d) {
+    const Open3dRun open3d = runOpen3d(sequence, slam_options.tracker.preprocess.metric, "open3d_" + size.name());
+    c["open3d_ms"] = open3d.ms_per_frame;
+    c["open3d_ate_m"] = open3d.ate_m;
+    c["open3d_failed_frames"] = open3d.failed_frames;
+    c["open3d_threads"] = open3d.threads;
+    c["ratio_open3d"] = ms_total / open3d.ms_per_frame;
+  }
+  state.SetLabel(options().mode + ", " + context().features().device_name);
 }
 
 void registerAll() {
   const BenchOptions& o = options();
   for (const Size& size : o.sizes) {
     const std::string suffix = std::string("/") + kPreset + "/" + size.name();
-    benchmark::RegisterBenchmark(("rgbd_slam" + suffix).c_str(), rgbdSlam, size)
+    const std::string slam_name = o.mode == "rgbd" ? "rgbd_slam" : "rgbd_slam_" + o.mode;
+    benchmark::RegisterBenchmark((slam_name + suffix).c_str(), rgbdSlam, size)
         ->Iterations(o.frames - 1)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime();
@@ -148,6 +173,7 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   try {
     benchmark::AddCustomContext("device", vifusion::bench::context().features().device_name);
+    benchmark::AddCustomContext("mode", vifusion::bench::options().mode);
     benchmark::AddCustomContext("sequence", std::string("sim:") + vifusion::bench::kPreset + ", " +
                                                 std::to_string(vifusion::bench::options().frames) + " frames" +
                                                 (vifusion::bench::options().noise ? "" : ", no noise") +

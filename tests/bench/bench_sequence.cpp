@@ -85,6 +85,8 @@ const Sequence& sequenceFor(const Size& size) {
     if (it == truth.end() || it->t_ns != frame.t_ns) throw Error("no ground-truth pose at a frame's stamp: " + reader->describe());
     sequence->ground_truth.push_back({it->t_ns, it->T_world_body});
   }
+  const std::span<const ImuSample> imu = reader->imu();
+  sequence->imu.assign(imu.begin(), imu.end());
   slot = std::move(sequence);
   return *slot;
 }

@@ -19,6 +19,9 @@ struct Sequence {
   RigCalibration calibration;
   std::vector<RgbdFrame> frames;
   std::vector<eval::StampedPose> ground_truth;  ///< T_world_camera at each frame's stamp, in frame order
+  /// The reader's whole IMU stream (DatasetReader::imu(), on the IMU clock), for --mode=rgbdi: handed to
+  /// Slam::process with every frame, as `vifusion run`'s RecordedImuFeed does.
+  std::vector<ImuSample> imu;
   std::string describe;
 };
 

@@ -100,6 +100,7 @@ SampleMessages::SampleMessages() {
   status.closures_refused = 41;
   status.closures_agreed = 5;
   status.relocalisations = 2;
+  status.frames_skipped = 4'321;
   status.source_present = true;
   status.source_reopens = 1;
   status.clock_offset_ns = -1'234'567'890'123;

@@ -145,6 +145,7 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.tracking_state = static_cast<std::uint8_t>(tracking);
   status.surfel_count = last_.surfels;
   status.frames_processed = frames;
+  status.frames_skipped = state_.frames_skipped.load();
   status.lost_frames = state_.lost_frames.load();
   status.imu_issue_frames = state_.imu_issue_frames.load();
   status.imu_carried_frames = state_.imu_carried_frames.load();

@@ -144,6 +144,7 @@ int serve(const config::DaemonConfig& config) {
   worker_options.expected_frames = source->live() ? kLiveTrajectoryReserveFrames : source->frameCount();
   worker_options.imu = inertial ? imu_feed : nullptr;
   worker_options.recorder = inertial ? recorder.get() : nullptr;
+  worker_options.take_newest = config.realtime;
   SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
 
   notifier.status("waiting for the first frame");

@@ -37,6 +37,8 @@ void SlamWorker::run() {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
         continue;
       }
+      // Each pop swaps the slot's buffers back into the ring: skipping allocates nothing.
+      while (options_.take_newest && state_.frames.tryPop(slot)) ++state_.frames_skipped;
       const std::span<const ImuSample> imu =
           options_.imu != nullptr ? options_.imu->samplesThrough(slot.frame.t_ns) : std::span<const ImuSample>();
       if (options_.recorder != nullptr) recordImu(imu, slot.frame.t_ns);

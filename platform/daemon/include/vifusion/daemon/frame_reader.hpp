@@ -9,7 +9,8 @@ namespace vifusion::daemon {
 
 /// Runs until the source ends, `state.stop` is set or a frame cannot be read (exit code 3).
 ///  realtime = true: frames are handed over at their timestamps' pace, like a camera; a full ring
-///    drops the newest frame and counts an overrun (a sensor never waits).
+///    drops the newest frame and counts an overrun (a sensor never waits); the SLAM thread takes the newest
+///    waiting frame and skips the older ones (SlamWorkerOptions::take_newest).
 ///  realtime = false: as fast as the SLAM thread takes them; the reader waits for a free slot,
 ///    because a dataset replayed for evaluation should lose nothing.
 ///  A live source (the camera) is never paced: frames are handed over as they come; with realtime = true a

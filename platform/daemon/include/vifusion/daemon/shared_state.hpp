@@ -96,6 +96,8 @@ struct SharedState {
   std::atomic<std::uint64_t> closures_refused{0};    ///< loop-closure attempts a test refused
   std::atomic<std::uint64_t> closures_agreed{0};     ///< closures within their noise: reactivation only
   std::atomic<std::uint64_t> relocalisations{0};     ///< lost frames tracked again from a recognised place
+  /// Frames the SLAM thread skipped as stale, a newer one waiting (SlamWorkerOptions::take_newest)
+  std::atomic<std::uint64_t> frames_skipped{0};
   // The live camera, as the main thread last read it from the source (recorded sources: present, zeros).
   std::atomic<bool> source_present{true};        ///< false while the camera is unplugged
   std::atomic<std::uint64_t> source_reopens{0};  ///< re-opens after an unplug

@@ -33,6 +33,12 @@ struct SlamWorkerOptions {
   ImuFeed* imu = nullptr;
   /// Records the IMU samples as the frames take them (borrowed; nullptr: not recording).
   recording::Recorder* recorder = nullptr;
+  /// realtime: true (a camera, or a replay at its timestamps): when newer frames wait behind the oldest, those are
+  /// stale — the newest is processed and the others skipped (SharedState::frames_skipped), so a pipeline slower than
+  /// the camera answers within its own processing time instead of working through a queue of old frames (issue 19's
+  /// latency: first in first out, a pipeline behind the camera answered four frames late). false (realtime: false, a
+  /// replay as fast as possible or a camera whose driver drops instead): every frame, in order.
+  bool take_newest = false;
 };
 
 /// Trajectory capacity reserved for a live source, which cannot say how many frames will come: one hour at

@@ -138,10 +138,14 @@ def isolation():
     service = start([*in_a, f"{BIN}/vifusiond", "--source", f"dataset:{SIM}", "--out", f"{work}/out2",
                      "--realtime", "false", "--dds.config", DDS_CONFIG, "--dds.domain", str(domain),
                      "--dds.partition", partition])
+    # vifusiond binds its DDS sockets to lo right after Cyclone creates them: on a loaded machine ss can list one in
+    # between. Wait for the steady state (its sockets there, none of them unbound); a socket still unbound at the
+    # deadline fails below.
     deadline = time.monotonic() + 30
     while time.monotonic() < deadline:
         table = net.udp_sockets(net.ns_a)
-        if table.count('"vifusiond"') >= 2:
+        daemon_sockets = [line for line in table.splitlines() if '"vifusiond"' in line]
+        if len(daemon_sockets) >= 2 and all("%lo:" in line for line in daemon_sockets):
             break
         time.sleep(0.1)
     receive_ports = check_sockets(table, domain)

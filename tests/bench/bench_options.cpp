@@ -62,7 +62,8 @@ void parseOptions(int& argc, char** argv) {
     if (parseFlag(argv[i], "--frames", value)) {
       char* end = nullptr;
       const long frames = std::strtol(value.c_str(), &end, 10);
-      if (*end != '\0' || frames < 4 || frames > 100000) throw Error("--frames: expected 4 … 100000, got '" + value + "'");
+      if (*end != '\0' || frames < 4 || frames > 100000)
+        throw Error("--frames: expected 4 … 100000, got '" + value + "'");
       o.frames = static_cast<int>(frames);
     } else if (parseFlag(argv[i], "--sizes", value)) {
       o.sizes = parseSizes(value);

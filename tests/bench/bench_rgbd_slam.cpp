@@ -52,15 +52,15 @@
 #include <string>
 #include <vector>
 
-#include "vifusion/core/error.hpp"
-#include "vifusion/eval/metrics.hpp"
-#include "vifusion/slam/slam.hpp"
 #include "bench_options.hpp"
 #include "bench_sequence.hpp"
 #include "open3d_slam.hpp"
 #include "opencv_odometry.hpp"
 #include "rgbd_slam_steps.hpp"
 #include "timing.hpp"
+#include "vifusion/core/error.hpp"
+#include "vifusion/eval/metrics.hpp"
+#include "vifusion/slam/slam.hpp"
 
 namespace vifusion::bench {
 namespace {

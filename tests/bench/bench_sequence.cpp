@@ -25,9 +25,18 @@ void runSim(const Size& size, int frames, const std::filesystem::path& out) {
   // `sim` renders floor((duration − first stamp) / period) + 1 frames: half a period of margin.
   char duration[32];
   std::snprintf(duration, sizeof(duration), "%.6f", (frames - 0.5) / kFrameRateHz);
-  std::vector<std::string> args = {options().vifusion, "sim", "--preset", kPreset,
-                                   "--width", std::to_string(size.width), "--height", std::to_string(size.height),
-                                   "--duration", duration, "--out", out.string()};
+  std::vector<std::string> args = {options().vifusion,
+                                   "sim",
+                                   "--preset",
+                                   kPreset,
+                                   "--width",
+                                   std::to_string(size.width),
+                                   "--height",
+                                   std::to_string(size.height),
+                                   "--duration",
+                                   duration,
+                                   "--out",
+                                   out.string()};
   if (!options().noise) args.push_back("--no-noise");
   std::vector<char*> argv;
   for (std::string& arg : args) argv.push_back(arg.data());
@@ -40,7 +49,8 @@ void runSim(const Size& size, int frames, const std::filesystem::path& out) {
   pid_t pid = 0;
   const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (spawned != 0) throw Error(options().vifusion + ": cannot be started (" + std::strerror(spawned) + "); give --vifusion=PATH");
+  if (spawned != 0)
+    throw Error(options().vifusion + ": cannot be started (" + std::strerror(spawned) + "); give --vifusion=PATH");
   int status = 0;
   if (waitpid(pid, &status, 0) != pid || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     throw Error("vifusion sim failed for " + out.string());
@@ -49,7 +59,8 @@ void runSim(const Size& size, int frames, const std::filesystem::path& out) {
 
 /// The dataset directory of `size` holding at least `frames` frames, generated if missing or short.
 std::filesystem::path datasetFor(const Size& size, int frames) {
-  const std::filesystem::path dir = std::filesystem::path(options().data_dir) / (std::string(kPreset) + "_" + size.name() + (options().noise ? "" : "_no_noise"));
+  const std::filesystem::path dir = std::filesystem::path(options().data_dir) /
+                                    (std::string(kPreset) + "_" + size.name() + (options().noise ? "" : "_no_noise"));
   if (std::filesystem::exists(dir / "rgb.txt")) {
     if (datasets::openDataset("dataset:" + dir.string())->frameCount() >= static_cast<std::size_t>(frames)) return dir;
   }
@@ -82,7 +93,8 @@ const Sequence& sequenceFor(const Size& size) {
   for (const RgbdFrame& frame : sequence->frames) {
     const auto it = std::lower_bound(truth.begin(), truth.end(), frame.t_ns,
                                      [](const datasets::StampedPose& pose, int64_t t_ns) { return pose.t_ns < t_ns; });
-    if (it == truth.end() || it->t_ns != frame.t_ns) throw Error("no ground-truth pose at a frame's stamp: " + reader->describe());
+    if (it == truth.end() || it->t_ns != frame.t_ns)
+      throw Error("no ground-truth pose at a frame's stamp: " + reader->describe());
     sequence->ground_truth.push_back({it->t_ns, it->T_world_body});
   }
   const std::span<const ImuSample> imu = reader->imu();

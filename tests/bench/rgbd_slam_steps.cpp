@@ -7,13 +7,13 @@
 #include <utility>
 #include <vector>
 
-#include "vifusion/core/image.hpp"
-#include "vifusion/map/prediction_cpu.hpp"
-#include "vifusion/preprocess/preprocess_stage.hpp"
 #include "bench_sequence.hpp"
 #include "native_loops.hpp"
 #include "step_pipeline.hpp"
 #include "timing.hpp"
+#include "vifusion/core/image.hpp"
+#include "vifusion/map/prediction_cpu.hpp"
+#include "vifusion/preprocess/preprocess_stage.hpp"
 
 namespace vifusion::bench {
 namespace {
@@ -65,7 +65,8 @@ void compareNative(StepPipeline& p, const SE3d& T_ref_cur, StepTimes& t) {
   const tracking::IcpParams icp_params = tracking::IcpParams::make(T_ref_cur, camera, p.tracker_options.icp);
   const auto icp_loop = [&](int begin, int end, bench::NativeSums& sums) {
     bench::icpNative(p.host<VertexPixel>(p.terms.cur_vertices), p.host<NormalPixel>(p.terms.cur_normals),
-                     p.host<VertexPixel>(p.terms.ref_vertices), p.host<NormalPixel>(p.terms.ref_normals), icp_params, begin, end, sums);
+                     p.host<VertexPixel>(p.terms.ref_vertices), p.host<NormalPixel>(p.terms.ref_normals), icp_params,
+                     begin, end, sums);
   };
   bench::NativeSums native{};
   t.add("native_icp_l0_ms_1t", medianMs(3, [&] { native = bench::runSplit(pixels, 1, icp_loop); }));
@@ -85,7 +86,8 @@ void compareNative(StepPipeline& p, const SE3d& T_ref_cur, StepTimes& t) {
   };
   t.add("native_photometric_l0_ms_1t", medianMs(3, [&] { native = bench::runSplit(pixels, 1, photometric_loop); }));
   t.add("native_photometric_l0_ms_2t", medianMs(3, [&] { native = bench::runSplit(pixels, 2, photometric_loop); }));
-  t.add("native_photometric_l0_inliers_vs_gpu", gpu_photometric.inliers > 0.0 ? native[28] / gpu_photometric.inliers : 0.0);
+  t.add("native_photometric_l0_inliers_vs_gpu",
+        gpu_photometric.inliers > 0.0 ? native[28] / gpu_photometric.inliers : 0.0);
 }
 
 /// The model prediction (the third kernel by time) against a native loop: the CPU references
@@ -170,7 +172,8 @@ void rgbdSlamSteps(benchmark::State& state, Size size) {
     p.maintenance->setView(T_C_W, frame_index);
     p.prediction->setView(T_C_W, frame_index);
     for (std::size_t s = 0; s < p.fusion_steps[parity].size(); ++s) {
-      t.time(std::string("ms_fusion_") + map::fusionStepName(map::kAllFusionSteps[s]), [&] { p.fusion_steps[parity][s]->run(); });
+      t.time(std::string("ms_fusion_") + map::fusionStepName(map::kAllFusionSteps[s]),
+             [&] { p.fusion_steps[parity][s]->run(); });
     }
     t.time("ms_map_cleanup", [&] { p.cleanup[parity]->run(); });
     t.time("ms_map_compaction", [&] { p.compaction[parity]->run(); });

@@ -22,10 +22,12 @@ void EstimatorOptions::validate() const {
   if (inertial_only_iterations < 1 || inertial_only_iterations > 100) {
     throw Error("estimator option 'inertial_only_iterations' must be 1..100");
   }
-  if (!(max_inlier_loss > 0.0 && max_inlier_loss <= 1.0)) throw Error("estimator option 'max_inlier_loss' must be in (0, 1]");
+  if (!(max_inlier_loss > 0.0 && max_inlier_loss <= 1.0))
+    throw Error("estimator option 'max_inlier_loss' must be in (0, 1]");
   if (!(vision_gate_chi2 > 0.0)) throw Error("estimator option 'vision_gate_chi2' must be > 0");
   const auto positive = [](double value, const char* name) {
-    if (!(value > 0.0) || !std::isfinite(value)) throw Error(std::string("estimator option '") + name + "' must be > 0");
+    if (!(value > 0.0) || !std::isfinite(value))
+      throw Error(std::string("estimator option '") + name + "' must be > 0");
   };
   positive(initial_pose_sigma, "initial_pose_sigma");
   positive(initial_velocity_sigma_mps, "initial_velocity_sigma_mps");

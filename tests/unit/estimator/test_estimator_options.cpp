@@ -32,10 +32,12 @@ TEST(EstimatorOptions, ValidationNamesTheField) {
   expectRejected([](EstimatorOptions& o) { o.max_inlier_loss = 1.5; }, "max_inlier_loss");
   expectRejected([](EstimatorOptions& o) { o.vision_gate_min_step_m = 0.0; }, "vision_gate_min_step_m");
   expectRejected([](EstimatorOptions& o) { o.vision_gate_min_step_rad = -1.0; }, "vision_gate_min_step_rad");
-  expectRejected([](EstimatorOptions& o) { o.vision_gate_chi2 = std::numeric_limits<double>::quiet_NaN(); }, "vision_gate_chi2");
+  expectRejected([](EstimatorOptions& o) { o.vision_gate_chi2 = std::numeric_limits<double>::quiet_NaN(); },
+                 "vision_gate_chi2");
   expectRejected([](EstimatorOptions& o) { o.initial_pose_sigma = 0.0; }, "initial_pose_sigma");
   expectRejected([](EstimatorOptions& o) { o.initial_velocity_sigma_mps = -2.0; }, "initial_velocity_sigma_mps");
-  expectRejected([](EstimatorOptions& o) { o.initial_gravity_sigma_rad = std::numeric_limits<double>::infinity(); }, "initial_gravity_sigma_rad");
+  expectRejected([](EstimatorOptions& o) { o.initial_gravity_sigma_rad = std::numeric_limits<double>::infinity(); },
+                 "initial_gravity_sigma_rad");
   expectRejected([](EstimatorOptions& o) { o.gravity_window_ns = 0; }, "gravity_window_ns");
 }
 

@@ -191,14 +191,17 @@ class SamplingRig {
     std::memcpy(buffer(upload_).mapped, surfels.data(), surfels.size_bytes());
     uploads_[parity]->run();
   }
-  /// Makes array `parity` the current one, holding `count` live surfels, in frame `frame`.
-  void setMap(int parity, std::uint32_t count, std::uint32_t frame = kFrame) {
+  /// Makes array `parity` the current one, holding `count` live surfels of which [0, active_begin) are the
+  /// inactive prefix, in frame `frame`.
+  void setMap(int parity, std::uint32_t count, std::uint32_t frame = kFrame, std::uint32_t active_begin = 0) {
     if (map_.current() != parity) map_.flip();
     map::MapState state;
     state.surfel_count = count;
     state.frame = frame;
+    state.active_begin = active_begin;
     std::memcpy(buffer(map_.state()).mapped, &state, sizeof(state));
   }
+  map::MapState mapState() const { return map_.readState(*arena_); }
   /// Both predictions of the current array, camera at the origin of W looking along +z.
   void predict() {
     active_.setView(SE3d(), kFrame);
@@ -222,6 +225,13 @@ class SamplingRig {
   std::vector<Surfel> surfels() {
     std::vector<Surfel> out;
     export_.read(out);
+    return out;
+  }
+  /// The live surfels of the other array (the export reads the current one).
+  std::vector<Surfel> otherSurfels() {
+    map_.flip();
+    std::vector<Surfel> out = surfels();
+    map_.flip();
     return out;
   }
 
@@ -281,6 +291,69 @@ TEST_F(MapSamplingTest, ReactivationMakesTheInactiveSurfelsInViewActive) {
   }
   EXPECT_EQ(inactive_pixels, 0);
   EXPECT_GT(reactivated_pixels, 100);
+}
+
+// Reactivation in a map whose inactive surfels form the prefix (as after maintenance): the reactivated ones move
+// into the active range and the prefix shrinks by their number, so the next frame visits them without visiting
+// the whole map. GPU against the CPU references (mark, plan, move), bit for bit, in both arrays; and from first
+// principles: nothing lost or duplicated, every surfel that won an inactive pixel above the new prefix's end,
+// nothing reactivated left in it, and the prefix the same in both arrays.
+TEST_F(MapSamplingTest, ReactivatedSurfelsLeaveTheInactivePrefix) {
+  const std::vector<Surfel> wall = wallSurfels();
+  std::vector<Surfel> map_order;  // inactive first: the prefix
+  for (const bool inactive : {true, false}) {
+    for (const Surfel& s : wall) {
+      if ((kFrame - s.colour_times.z() > 200.0f) == inactive) map_order.push_back(s);
+    }
+  }
+  const auto count = static_cast<std::uint32_t>(map_order.size());
+  const auto prefix = static_cast<std::uint32_t>(
+      std::count_if(wall.begin(), wall.end(), [](const Surfel& s) { return kFrame - s.colour_times.z() > 200.0f; }));
+  SamplingRig rig(context(), count, smallOptions());
+  rig.writeArray(0, map_order);
+  rig.writeArray(1, map_order);
+  rig.setMap(0, count, kFrame, prefix);
+  rig.predict();
+
+  const ImageView<const std::uint32_t> ids = rig.ids(map::PredictedSurfels::kInactive);
+  const std::vector<std::uint32_t> id_list(ids.data, ids.data + ids.width * ids.height);
+  std::vector<Surfel> expected = map_order;
+  map::reactivateSurfelsCpu(expected, ids, kFrame);
+  std::vector<std::uint32_t> scratch(id_list.size());
+  std::vector<map::ReactivationMove> moves(id_list.size());
+  const map::ReactivationPlan plan = map::planReactivationMoves(id_list, prefix, scratch, moves);
+  std::vector<Surfel> expected_other = map_order;
+  map::applyReactivationMovesCpu(expected, expected_other, std::span(moves.data(), plan.moves));
+  ASSERT_GT(prefix - plan.active_begin, 100u) << "the inactive blocks are in view";
+  ASSERT_GT(plan.moves, 0u) << "some reactivated surfels sit below the new prefix end";
+
+  EXPECT_EQ(rig.reactivation().apply(kFrame), prefix - plan.active_begin);
+  EXPECT_EQ(rig.mapState().active_begin, plan.active_begin);
+  EXPECT_EQ(rig.mapState().surfel_count, count);
+  const std::vector<Surfel> gpu = rig.surfels();
+  const std::vector<Surfel> other = rig.otherSurfels();
+  ASSERT_EQ(gpu.size(), expected.size());
+  EXPECT_EQ(0, std::memcmp(gpu.data(), expected.data(), gpu.size() * sizeof(Surfel)));
+  EXPECT_EQ(0, std::memcmp(other.data(), expected.data(), plan.active_begin * sizeof(Surfel))) << "prefix in both";
+
+  // First principles, on the GPU's result.
+  const auto less = [](const Surfel& a, const Surfel& b) { return std::memcmp(&a, &b, sizeof(Surfel)) < 0; };
+  std::vector<Surfel> before = map_order;
+  std::vector<Surfel> after = gpu;
+  for (Surfel& s : before) s.colour_times.z() = 0.0f;  // the mark is the one change allowed
+  for (Surfel& s : after) s.colour_times.z() = 0.0f;
+  std::sort(before.begin(), before.end(), less);
+  std::sort(after.begin(), after.end(), less);
+  EXPECT_EQ(0, std::memcmp(before.data(), after.data(), before.size() * sizeof(Surfel))) << "nothing lost";
+  std::uint32_t reactivated_above = 0;
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const bool reactivated = gpu[i].colour_times.z() == static_cast<float>(kFrame);  // active ones: kFrame − 3
+    if (i < plan.active_begin) {
+      EXPECT_FALSE(reactivated) << "slot " << i << " left in the prefix";
+    }
+    reactivated_above += reactivated ? 1 : 0;
+  }
+  EXPECT_EQ(reactivated_above, prefix - plan.active_begin) << "every reactivated surfel in the active range";
 }
 
 TEST_F(MapSamplingTest, NodeSamplesMatchTheCpuReferenceFromEitherArray) {

@@ -39,4 +39,11 @@ void MapBuffers::visitWholeMapNextFrame(const gpu::MemoryArena& arena) const {
   std::memcpy(arena.buffer(state_).mapped, &state, sizeof(state));
 }
 
+void MapBuffers::shrinkInactivePrefix(const gpu::MemoryArena& arena, std::uint32_t active_begin) const {
+  MapState state = readState(arena);
+  if (active_begin > state.active_begin) throw Error("map buffers: the inactive prefix can only shrink");
+  state.active_begin = active_begin;
+  std::memcpy(arena.buffer(state_).mapped, &state, sizeof(state));
+}
+
 }  // namespace vifusion::map

@@ -1,5 +1,6 @@
 #include "vifusion/map/surfel_reactivation.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <string>
 
@@ -17,7 +18,14 @@ struct ReactivateParams {
   std::uint32_t pad[2] = {};
 };
 
-/// Workgroups of the grid-stride pass over the pixels (one invocation per pixel on a GPU at 640×480).
+/// std430 header of map_reactivate_move.comp's MovePlan; the moves follow it.
+struct MovePlanHeader {
+  std::uint32_t move_count = 0;
+  std::uint32_t pad[3] = {};
+};
+
+/// Workgroups of the grid-stride passes over the pixels and the moves (one invocation per pixel on a GPU at
+/// 640×480; at most one move per pixel).
 constexpr std::uint32_t kWorkgroups = 2400;
 constexpr std::uint32_t kWorkgroupSize = 128;
 
@@ -25,8 +33,11 @@ constexpr std::uint32_t kWorkgroupSize = 128;
 
 struct SurfelReactivation::Kernels {
   std::unique_ptr<gpu::ComputeKernel> reactivate;
-  gpu::BindingSet sets[2];
-  std::unique_ptr<gpu::CommandSequence> sequences[2];
+  std::unique_ptr<gpu::ComputeKernel> move;
+  gpu::BindingSet mark_sets[2];
+  gpu::BindingSet move_sets[2];
+  std::unique_ptr<gpu::CommandSequence> mark[2];  ///< mark, then copy the ids for the plan
+  std::unique_ptr<gpu::CommandSequence> moves[2];
 };
 
 SurfelReactivation::SurfelReactivation(gpu::GpuContext& context, gpu::CapacityPlan& plan, const MapBuffers& map,
@@ -35,6 +46,12 @@ SurfelReactivation::SurfelReactivation(gpu::GpuContext& context, gpu::CapacityPl
   const PinholeCamera& camera = inactive.camera(0);
   pixels_ = static_cast<std::uint32_t>(camera.width) * static_cast<std::uint32_t>(camera.height);
   params_ = plan.addBuffer("map_reactivate.params", sizeof(ReactivateParams), gpu::MemoryUse::Upload);
+  ids_readback_ =
+      plan.addBuffer("map_reactivate.ids", std::uint64_t{pixels_} * sizeof(std::uint32_t), gpu::MemoryUse::Readback);
+  move_plan_ =
+      plan.addBuffer("map_reactivate.moves", sizeof(MovePlanHeader) + std::uint64_t{pixels_} * sizeof(ReactivationMove),
+                     gpu::MemoryUse::Upload);
+  marked_slots_.resize(pixels_);
 }
 
 SurfelReactivation::~SurfelReactivation() = default;
@@ -50,26 +67,91 @@ void SurfelReactivation::build(const gpu::MemoryArena& arena) {
   spec.workgroup_size = {kWorkgroupSize, 1, 1};
   spec.max_binding_sets = 2;
   k.reactivate = gpu::ComputeKernel::create(context_, std::move(spec));
+  gpu::KernelSpec move_spec;
+  move_spec.name = "map_reactivate_move";
+  move_spec.spirv = shaders::map_reactivate_move;
+  move_spec.storage_buffers = 3;
+  move_spec.workgroup_size = {kWorkgroupSize, 1, 1};
+  move_spec.max_binding_sets = 2;
+  k.move = gpu::ComputeKernel::create(context_, std::move(move_spec));
   const std::uint32_t groups = surfelWorkgroups(context_, kWorkgroups);
   const auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
   for (int parity = 0; parity < 2; ++parity) {
-    k.sets[parity] =
+    k.mark_sets[parity] =
         k.reactivate->bind({buffer(map_.state()), buffer(map_.surfels(parity)), buffer(ids_), buffer(params_)});
-    k.sequences[parity] = gpu::CommandSequence::create(context_, "map reactivate " + std::to_string(parity));
-    k.sequences[parity]->record([&](gpu::CommandRecorder& recorder) {
+    k.mark[parity] = gpu::CommandSequence::create(context_, "map reactivate " + std::to_string(parity));
+    k.mark[parity]->record([&](gpu::CommandRecorder& recorder) {
       recorder.computeBarrier();  // after the inactive prediction and earlier map writes
-      recorder.dispatch(*k.reactivate, k.sets[parity], {groups, 1, 1});
+      recorder.dispatch(*k.reactivate, k.mark_sets[parity], {groups, 1, 1});
+      recorder.copyBuffer(arena.buffer(ids_), arena.buffer(ids_readback_),
+                          std::uint64_t{pixels_} * sizeof(std::uint32_t));
+      recorder.computeBarrier();
+      recorder.hostReadBarrier();
+    });
+    k.move_sets[parity] =
+        k.move->bind({buffer(map_.surfels(parity)), buffer(map_.surfels(parity ^ 1)), buffer(move_plan_)});
+    k.moves[parity] = gpu::CommandSequence::create(context_, "map reactivate move " + std::to_string(parity));
+    k.moves[parity]->record([&](gpu::CommandRecorder& recorder) {
+      recorder.computeBarrier();
+      recorder.dispatch(*k.move, k.move_sets[parity], {groups, 1, 1});
       recorder.computeBarrier();
     });
   }
 }
 
-void SurfelReactivation::apply(std::uint32_t frame) {
+std::uint32_t SurfelReactivation::apply(std::uint32_t frame) {
   const ReactivateParams params{pixels_, frame};
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
-  kernels_->sequences[map_.current()]->run();
-  // Surfels of the inactive prefix are active now (and only in the current array).
-  map_.visitWholeMapNextFrame(*arena_);
+  kernels_->mark[map_.current()]->run();
+
+  const MapState state = map_.readState(*arena_);
+  const std::span<const std::uint32_t> ids = arena_->buffer(ids_readback_).hostSpan<const std::uint32_t>();
+  std::byte* plan_bytes = arena_->buffer(move_plan_).mapped;
+  const std::span<ReactivationMove> moves(reinterpret_cast<ReactivationMove*>(plan_bytes + sizeof(MovePlanHeader)),
+                                          pixels_);
+  const ReactivationPlan plan = planReactivationMoves(ids.first(pixels_), state.active_begin, marked_slots_, moves);
+  if (plan.active_begin == state.active_begin) return 0;
+  const MovePlanHeader header{plan.moves};
+  std::memcpy(plan_bytes, &header, sizeof(header));
+  if (plan.moves > 0) kernels_->moves[map_.current()]->run();
+  map_.shrinkInactivePrefix(*arena_, plan.active_begin);
+  return state.active_begin - plan.active_begin;
+}
+
+ReactivationPlan planReactivationMoves(std::span<const std::uint32_t> ids, std::uint32_t active_begin,
+                                       std::span<std::uint32_t> scratch, std::span<ReactivationMove> moves) {
+  std::size_t marked = 0;
+  for (const std::uint32_t id : ids) {
+    if (id < active_begin) scratch[marked++] = id;
+  }
+  const auto first = scratch.begin();
+  std::sort(first, first + static_cast<std::ptrdiff_t>(marked));
+  marked = static_cast<std::size_t>(std::unique(first, first + static_cast<std::ptrdiff_t>(marked)) - first);
+  ReactivationPlan plan;
+  plan.active_begin = active_begin - static_cast<std::uint32_t>(marked);
+  // The marked slots below the new boundary pair up, in ascending order, with the unmarked slots above it.
+  std::size_t above = static_cast<std::size_t>(
+      std::lower_bound(first, first + static_cast<std::ptrdiff_t>(marked), plan.active_begin) - first);
+  for (std::uint32_t slot = plan.active_begin; slot < active_begin; ++slot) {
+    if (above < marked && scratch[above] == slot) {
+      ++above;
+      continue;
+    }
+    moves[plan.moves] = {scratch[plan.moves], slot};
+    ++plan.moves;
+  }
+  return plan;
+}
+
+void applyReactivationMovesCpu(std::span<Surfel> current, std::span<Surfel> other,
+                               std::span<const ReactivationMove> moves) {
+  for (const ReactivationMove& move : moves) {
+    const Surfel marked = current[move.marked_slot];
+    const Surfel unmarked = current[move.unmarked_slot];
+    current[move.marked_slot] = unmarked;
+    other[move.marked_slot] = unmarked;
+    current[move.unmarked_slot] = marked;
+  }
 }
 
 void reactivateSurfelsCpu(std::span<Surfel> surfels, ImageView<const std::uint32_t> ids, std::uint32_t frame) {

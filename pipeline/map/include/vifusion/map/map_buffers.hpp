@@ -67,10 +67,13 @@ class MapBuffers {
   /// Empties the map: count, overflow and frame to 0 (start-up, or between independent runs).
   void reset(const gpu::MemoryArena& arena);
   /// Makes the next frame's passes visit the whole map (active_begin = 0) and its maintenance
-  /// partition it again: after surfels of the inactive prefix became active (reactivation) or when
-  /// the inactive ones must be visited (eviction from a full map). Host write: call only while no
+  /// partition it again: after the prefix changed in one array only (a deformation) or when the
+  /// inactive ones must be visited (eviction from a full map). Host write: call only while no
   /// submission is in flight. Const like the kernels' own writes: it changes the map's device state only.
   void visitWholeMapNextFrame(const gpu::MemoryArena& arena) const;
+  /// Ends the inactive prefix at `active_begin` (≤ the current one) after SurfelReactivation moved the surfels
+  /// above it into the active range. Host write, like visitWholeMapNextFrame.
+  void shrinkInactivePrefix(const gpu::MemoryArena& arena, std::uint32_t active_begin) const;
 
  private:
   MapOptions options_;

@@ -8,9 +8,9 @@
 // its surfels that turned inactive are retired to the end of the inactive prefix, which is the
 // same in both arrays and is never walked per frame, so a frame's maintenance (and index, fusion
 // and active prediction) costs what the active map holds, not the whole map. The whole map is
-// visited when active_begin is 0: at start-up, after MapBuffers::visitWholeMapNextFrame (Slam calls
-// it after reactivation) and on every frame the map is over its full mark (setView), whose eviction
-// needs the inactive surfels.
+// visited when active_begin is 0: at start-up, after MapBuffers::visitWholeMapNextFrame (after a loop
+// closure deformed the map) and on every frame the map is over its full mark (setView), whose eviction
+// needs the inactive surfels. Reactivated surfels leave the prefix without that (surfel_reactivation.hpp).
 //
 //   map_cleanup          keep and retire flags per visited surfel (rules in shaders/map_cleanup.comp)
 //   map_compact_scan     exclusive scan of each chain of flags in 1024-element tiles, then of the

@@ -105,7 +105,8 @@ struct FrameResult {
   int iterations = 0;        ///< Gauss-Newton iterations over all levels
   uint32_t surfels = 0;      ///< surfels in the map after this frame
   /// of which in the active range the next frame's passes visit (map_buffers.hpp): what a frame's mapping costs.
-  /// All of them after a frame whose loop closure moved or reactivated surfels: the next frame visits the whole map
+  /// All of them after a frame whose loop closure moved the map: the next frame visits the whole map (a closure
+  /// that only reactivated surfels moves them into the active range instead: surfel_reactivation.hpp)
   uint32_t active_surfels = 0;
   uint32_t map_overflow = 0;   ///< surfels that did not fit so far (map-full policy: map_maintenance.hpp)
   uint32_t map_evicted = 0;    ///< inactive surfels the map-full policy evicted in this frame

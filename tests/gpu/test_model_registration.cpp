@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 #include <vector>
@@ -110,7 +111,8 @@ TEST_F(ModelRegistrationTest, TwoViewsRegisterToTheirRelativeMotion) {
   EXPECT_NEAR(result.correction_m, result.T_inactive_active.log().head<3>().norm(), 1e-12);
   // Centimetres at millimetre σ (the frames' own views disagree to χ² 1.5 per inlier, so the verdict is
   // the residual test's; the correction's χ² is computed either way).
-  EXPECT_GT(result.correction_chi2, slam::RegistrationOptions{}.min_correction_chi2);
+  EXPECT_EQ(result.free_directions, 0) << "a room corner constrains every direction";
+  EXPECT_GT(result.correction_chi2, slam::RegistrationOptions{}.min_correction_chi2.back());
   std::printf("registration 150 -> 155: %s, χ² %.3f, σ %.2f mm / %.3f°, correction χ² %.1f, %d iterations\n",
               slam::registrationVerdictName(result.verdict), result.mean_chi2, 1e3 * result.position_sigma_m,
               result.rotation_sigma_rad * 180.0 / M_PI, result.correction_chi2, result.iterations);
@@ -129,20 +131,49 @@ TEST_F(ModelRegistrationTest, UnrelatedViewsAreRefusedByName) {
   EXPECT_STRNE(slam::registrationVerdictName(result.verdict), "accepted");
 }
 
-TEST_F(ModelRegistrationTest, AWallAloneIsRefusedAsUnconstrained) {
+TEST_F(ModelRegistrationTest, AWallAloneIsJudgedOverTheDirectionsItHolds) {
   // A fronto-parallel wall 1.5 m away leaves the two in-plane translations and the turn about its normal free.
   // With them projected out the 6×6 system is singular up to rounding: the step must move only what the wall
-  // holds, and the verdict must name the conditioning (an LDLT of it reported a numerical issue: "diverged").
+  // holds (an LDLT of it reported a numerical issue: "diverged"), and the verdict is taken over the three
+  // directions left: the same wall agrees with itself, so the old surfaces may be reactivated, nothing moved.
   constexpr std::uint16_t kWallDepthMm = 1500;
+  constexpr int kWallFreeDirections = 3;
   test::SevenScenesFrame wall = test::loadSevenScenesFrame(150);
   for (int y = 0; y < wall.depth_mm.height(); ++y) {
     for (int x = 0; x < wall.depth_mm.width(); ++x) wall.depth_mm(x, y) = kWallDepthMm;
   }
   RegistrationRig rig(context(), wall, wall);
   const slam::RegistrationResult result = rig.align();
-  EXPECT_EQ(result.verdict, slam::RegistrationVerdict::kUnconstrained) << slam::registrationVerdictName(result.verdict);
+  EXPECT_EQ(result.free_directions, kWallFreeDirections);
+  EXPECT_TRUE(result.accepted()) << slam::registrationVerdictName(result.verdict);
+  EXPECT_FALSE(result.significant);
   EXPECT_LT(result.T_inactive_active.translation().norm(), 1e-5);
   EXPECT_LT(result.T_inactive_active.log().tail<3>().norm(), 1e-5);
+  EXPECT_TRUE(std::isfinite(result.position_sigma_m) && std::isfinite(result.rotation_sigma_rad))
+      << "σ over the held directions only";
+}
+
+TEST_F(ModelRegistrationTest, AWallOffsetAlongItsNormalIsMeasuredButNotTrustedToMoveTheMap) {
+  // The same wall 20 mm nearer in the active rendering: the correction is that 20 mm along the optical axis
+  // (the wall's normal) and nothing along the wall, where the two renderings cannot tell an offset; being
+  // evidence of drift with directions free, it is refused: the map would move by what nobody measured.
+  constexpr std::uint16_t kWallDepthMm = 1500;
+  constexpr std::uint16_t kOffsetMm = 20;
+  test::SevenScenesFrame inactive = test::loadSevenScenesFrame(150);
+  test::SevenScenesFrame active = inactive;
+  for (int y = 0; y < inactive.depth_mm.height(); ++y) {
+    for (int x = 0; x < inactive.depth_mm.width(); ++x) {
+      inactive.depth_mm(x, y) = kWallDepthMm;
+      active.depth_mm(x, y) = kWallDepthMm - kOffsetMm;
+    }
+  }
+  RegistrationRig rig(context(), inactive, active);
+  const slam::RegistrationResult result = rig.align();
+  EXPECT_EQ(result.verdict, slam::RegistrationVerdict::kUnconstrained) << slam::registrationVerdictName(result.verdict);
+  EXPECT_TRUE(result.significant) << "20 mm at millimetre σ";
+  const Eigen::Vector3d t = result.T_inactive_active.translation();
+  EXPECT_NEAR(t.z(), 1e-3 * kOffsetMm, 1e-3) << "the active camera is nearer the wall";
+  EXPECT_LT(t.head<2>().norm(), 1e-4) << "nothing along the wall";
 }
 
 TEST(RegistrationOptions, ValidationNamesTheField) {
@@ -153,7 +184,7 @@ TEST(RegistrationOptions, ValidationNamesTheField) {
   options.max_mean_chi2 = -1.0;
   test::expectError([&] { options.validate(); }, "registration option 'max_mean_chi2'");
   options = {};
-  options.min_correction_chi2 = 0.0;
+  options.min_correction_chi2[2] = 0.0;
   test::expectError([&] { options.validate(); }, "registration option 'min_correction_chi2'");
 }
 

@@ -172,7 +172,7 @@ TEST_F(GpuTest, RgbdSlamWithLoopClosuresAllocatesNothing) {
   // The rendered pan does not drift: its corrections are all within their noise and would only reactivate
   // (ClosureOutcome::kAgreed). Every accepted registration deforms here, so the deformation path is what is
   // counted.
-  options.loop.registration.min_correction_chi2 = 1e-12;
+  options.loop.registration.min_correction_chi2.fill(1e-12);
   const AllocationRun run = runPan(context(), options, kFrames);
   expectNoPerFrameAllocation(run);
   EXPECT_GT(run.deformations, 0) << "no closure reached the deformation";

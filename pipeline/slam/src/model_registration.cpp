@@ -35,7 +35,9 @@ void RegistrationOptions::validate() const {
   if (!(max_pose_to_depth_sigma > 0.0)) throw Error(field("max_pose_to_depth_sigma") + " must be > 0");
   if (!(max_correction_m > 0.0)) throw Error(field("max_correction_m") + " must be > 0");
   if (!(max_correction_rad > 0.0)) throw Error(field("max_correction_rad") + " must be > 0");
-  if (!(min_correction_chi2 > 0.0)) throw Error(field("min_correction_chi2") + " must be > 0");
+  for (const double chi2 : min_correction_chi2) {
+    if (!(chi2 > 0.0)) throw Error(field("min_correction_chi2") + " must be > 0 for every number of directions");
+  }
 }
 
 const char* registrationVerdictName(RegistrationVerdict verdict) {
@@ -60,20 +62,24 @@ const char* registrationVerdictName(RegistrationVerdict verdict) {
 
 namespace {
 
-/// The Gauss-Newton step −H⁺·b over the directions the system constrains. With the unconstrained directions
-/// projected out, H is singular up to rounding, where an LDLT reports a numerical issue; the pseudo-inverse
-/// moves nothing along eigenvalues below kRelativeEigenvalueFloor of the largest.
-Vector6d constrainedStep(const NormalEquations6& system) {
+/// H⁺, the pseudo-inverse of a symmetric positive semi-definite system over the directions it constrains. With
+/// the unconstrained directions projected out, H is singular up to rounding, where an LDLT reports a numerical
+/// issue; the pseudo-inverse is zero along eigenvalues below kRelativeEigenvalueFloor of the largest. NaN when
+/// the eigensolver fails.
+Matrix6d pseudoInverse(const Matrix6d& H) {
   constexpr double kRelativeEigenvalueFloor = 1e-9;
-  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(system.H);
-  if (eigen.info() != Eigen::Success) return Vector6d::Constant(std::numeric_limits<double>::quiet_NaN());
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(H);
+  if (eigen.info() != Eigen::Success) return Matrix6d::Constant(std::numeric_limits<double>::quiet_NaN());
   const double floor = kRelativeEigenvalueFloor * eigen.eigenvalues().cwiseAbs().maxCoeff();
   Vector6d inverse = Vector6d::Zero();
   for (int k = 0; k < 6; ++k) {
     if (eigen.eigenvalues()(k) > floor) inverse(k) = 1.0 / eigen.eigenvalues()(k);
   }
-  return -(eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose()) * system.b;
+  return eigen.eigenvectors() * inverse.asDiagonal() * eigen.eigenvectors().transpose();
 }
+
+/// The Gauss-Newton step −H⁺·b over the directions the system constrains.
+Vector6d constrainedStep(const NormalEquations6& system) { return -pseudoInverse(system.H) * system.b; }
 
 }  // namespace
 
@@ -142,6 +148,14 @@ RegistrationResult ModelRegistration::align() {
       if (delta.head<3>().norm() < options_.converged_step && delta.tail<3>().norm() < options_.converged_step) break;
     }
   }
+  // Coarser levels may have stepped along directions the finest level leaves free, where nothing measured the
+  // step: the correction keeps only its part in the finest level's constrained subspace (H⁺H projects onto
+  // the range of the projected information).
+  {
+    NormalEquations6 constrained = last;
+    tracking::removeUnconstrainedIcpDirections(last, options_.min_constraint_share, constrained);
+    T = SE3d::exp(pseudoInverse(constrained.H) * constrained.H * T.log());
+  }
   // The statistics at the final pose.
   icp_->setPose(0, T, cameras_[0]);
   sequences_[0]->run();
@@ -155,11 +169,11 @@ RegistrationResult ModelRegistration::align() {
     return result;
   }
   result.mean_chi2 = last.weighted_squared_residual / last.inliers;
+  // Judged over the directions the surfaces constrain, as the steps were taken (model_registration.hpp).
   NormalEquations6 projected = last;
-  const int free_directions =
-      tracking::removeUnconstrainedIcpDirections(last, options_.min_constraint_share, projected);
-  const Matrix6d information = options_.information_scale * last.H;
-  const Matrix6d covariance = information.inverse();
+  result.free_directions = tracking::removeUnconstrainedIcpDirections(last, options_.min_constraint_share, projected);
+  const Matrix6d information = options_.information_scale * projected.H;
+  const Matrix6d covariance = pseudoInverse(information);
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> position(covariance.topLeftCorner<3, 3>());
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rotation(covariance.bottomRightCorner<3, 3>());
   result.position_sigma_m = std::sqrt(std::max(0.0, position.eigenvalues().maxCoeff()));
@@ -171,16 +185,18 @@ RegistrationResult ModelRegistration::align() {
   result.correction_chi2 = correction.dot(information * correction);
   if (!(result.mean_chi2 <= options_.max_mean_chi2)) {
     result.verdict = RegistrationVerdict::kResidual;
-  } else if (free_directions > 0) {
-    result.verdict = RegistrationVerdict::kUnconstrained;
   } else if (!(result.far_sigma_m <= options_.max_pose_to_depth_sigma * far_depth_sigma_m_)) {
     result.verdict = RegistrationVerdict::kCovariance;
   } else if (!(correction.head<3>().norm() <= options_.max_correction_m) ||
              !(correction.tail<3>().norm() <= options_.max_correction_rad)) {
     result.verdict = RegistrationVerdict::kCorrection;
   } else {
-    result.verdict = RegistrationVerdict::kAccepted;
-    result.significant = result.correction_chi2 >= options_.min_correction_chi2;
+    const int constrained = 6 - result.free_directions;
+    result.significant =
+        result.correction_chi2 >= options_.min_correction_chi2[static_cast<std::size_t>(constrained - 1)];
+    // Moving the map needs the correction in every direction; reactivating needs agreement where it is seen.
+    result.verdict = result.significant && result.free_directions > 0 ? RegistrationVerdict::kUnconstrained
+                                                                      : RegistrationVerdict::kAccepted;
   }
   return result;
 }

@@ -37,6 +37,8 @@
 //   closure_ms            wall time of the attempt [ms]
 //   closure_correction_mm, closure_correction_deg, closure_chi2   the registration's correction (translation,
 //                         rotation) and its χ² against the covariance (0 unless the registration got that far)
+//   closure_free_directions  pose directions the registration left out as unconstrained by the surfaces in view
+//                         (0–4, model_registration.hpp; 0 unless it got that far)
 //   relocalised           1: lost to the recovery's guesses and tracked from a recognised place (relocaliser.hpp)
 
 #include <filesystem>
@@ -85,6 +87,7 @@ class FrameLog {
     double closure_correction_mm = 0.0;
     double closure_correction_deg = 0.0;
     double closure_chi2 = 0.0;
+    int closure_free_directions = 0;
     bool relocalised = false;
   };
   std::vector<Row> rows_;

@@ -14,19 +14,26 @@
 //   overlap      inliers ≥ min_overlap_share · level-0 pixels: enough of the view is the same surfaces;
 //   residual     mean χ² per inlier (Σ w r² / inliers, w the ICP's Huber-weighted inverse variance)
 //                ≤ max_mean_chi2: the aligned models agree to the sensor's own noise;
-//   conditioning no ICP direction is unconstrained (tracking/icp_degeneracy.hpp's share test): a wall
-//                alone would let the closure slide along it;
+//   (free)       the directions the surfaces leave free (tracking/icp_degeneracy.hpp's share test: a wall
+//                alone leaves two translations and a turn) are left out: the steps do not move along them, and
+//                the tests below and the correction's χ² are taken over the directions the surfaces constrain
+//                (the pseudo-inverse of the projected information);
 //   covariance   the alignment's largest position and rotation σ (σ_r, σ_θ: from the ICP information scaled
 //                for the pixels' correlation, as DenseTermsOptions does) move a point at the far end of the
 //                depth range by σ_p = √(σ_r² + z_far²·σ_θ²) ≤ max_pose_to_depth_sigma · σ_z(z_far): the
 //                correction is known to the sensor's own noise there, so deforming the map by it adds no more
 //                error than fusing one more frame (the bound of slam/tracking_state.hpp's IMU-carried frames);
 //   correction   the correction within max_correction_m / max_correction_rad: local closure corrects drift
-//                since the surfaces went inactive, and ICP from the identity has no wider basin anyway.
-// An accepted alignment also says whether its correction ξ = log(T_inactive_active) is distinguishable from
-// no correction at all: χ² = ξᵀ Σ⁻¹ ξ (Σ the covariance above) against min_correction_chi2. Below it the two
-// models agree to the alignment's own noise, and moving the map by ξ would move it by noise (LoopClosure then
-// reactivates the old surfaces without deforming anything).
+//                since the surfaces went inactive, and ICP from the identity has no wider basin anyway;
+//   conditioning a correction that is evidence of drift (below) is refused as unconstrained when a direction
+//                is free: the map would be moved by a correction nobody measured along that direction. One
+//                that is not is accepted all the same: along a free direction the two renderings agree
+//                whatever their offset, so reactivating the old surfaces (nothing moved) changes no geometry,
+//                while refusing left the revisit to be mapped again beside them as a second active layer.
+// Whether a correction ξ = log(T_inactive_active) is evidence of drift at all: χ² = ξᵀ Σ⁺ ξ (Σ the covariance
+// above) against min_correction_chi2 for the number of constrained directions. Below it the two models agree to
+// the alignment's own noise, and moving the map by ξ would move it by noise (LoopClosure then reactivates the
+// old surfaces without deforming anything).
 //
 // Lifecycle: construct (declares the ICP's buffers in the plan) → build(arena, level inputs) once → align()
 // when a closure is tried. No allocation in align().
@@ -67,9 +74,10 @@ struct RegistrationOptions {
   /// Largest correction accepted [m], [rad] (ElasticFusion refuses a 0.3 m jump in tracking).
   double max_correction_m = 0.3;
   double max_correction_rad = 0.2;
-  /// A correction with χ² = ξᵀ Σ⁻¹ ξ below this is no evidence of drift: the 0.99 quantile of χ² with 6 degrees
-  /// of freedom (a correct alignment of undrifted models stays below it 99 % of the time). > 0.
-  double min_correction_chi2 = 16.81;
+  /// A correction with χ² = ξᵀ Σ⁺ ξ below entry k−1 is no evidence of drift when the surfaces constrain k
+  /// directions: the 0.99 quantiles of χ² with 1…6 degrees of freedom (a correct alignment of undrifted models
+  /// stays below it 99 % of the time). Each > 0.
+  std::array<double, 6> min_correction_chi2 = {6.635, 9.210, 11.345, 13.277, 15.086, 16.812};
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -99,10 +107,12 @@ struct RegistrationResult {
   double far_sigma_m = 0.0;         ///< σ_p(z_far) = √(σ_r² + z_far²·σ_θ²) [m], the covariance test's figure
   double correction_m = 0.0;        ///< |translation of log(T_inactive_active)| [m]
   double correction_rad = 0.0;      ///< |rotation of log(T_inactive_active)| [rad]
-  double correction_chi2 = 0.0;     ///< ξᵀ Σ⁻¹ ξ of the correction (min_correction_chi2)
+  double correction_chi2 = 0.0;     ///< ξᵀ Σ⁺ ξ of the correction (min_correction_chi2)
+  int free_directions = 0;          ///< directions left out as unconstrained (0–4; icp_degeneracy.hpp)
   int iterations = 0;
   bool accepted() const { return verdict == RegistrationVerdict::kAccepted; }
-  /// Accepted, and the correction is evidence of drift (χ² ≥ min_correction_chi2, set by align()).
+  /// The correction is evidence of drift (χ² ≥ min_correction_chi2; set by align() once the tests before the
+  /// conditioning passed).
   bool significant = false;
 };
 

@@ -47,6 +47,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <opencv2/core.hpp>
 #include <span>
 #include <string>
@@ -162,6 +163,22 @@ void registerAll() {
 }  // namespace
 }  // namespace vifusion::bench
 
+namespace {
+
+/// The CPU's "model name" from /proc/cpuinfo (Linux), for the README's speed table; "unknown" elsewhere.
+std::string cpuModelName() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  const std::string key = "model name";
+  for (std::string line; std::getline(cpuinfo, line);) {
+    const std::size_t colon = line.find(':');
+    if (line.rfind(key, 0) == 0 && colon != std::string::npos && colon + 2 <= line.size())
+      return line.substr(colon + 2);
+  }
+  return "unknown";
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   try {
     vifusion::bench::parseOptions(argc, argv);
@@ -174,6 +191,7 @@ int main(int argc, char** argv) {
   try {
     benchmark::AddCustomContext("device", vifusion::bench::context().features().device_name);
     benchmark::AddCustomContext("mode", vifusion::bench::options().mode);
+    benchmark::AddCustomContext("cpu_model", cpuModelName());
     benchmark::AddCustomContext("sequence", std::string("sim:") + vifusion::bench::kPreset + ", " +
                                                 std::to_string(vifusion::bench::options().frames) + " frames" +
                                                 (vifusion::bench::options().noise ? "" : ", no noise") +

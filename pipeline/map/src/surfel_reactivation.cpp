@@ -60,20 +60,18 @@ void SurfelReactivation::build(const gpu::MemoryArena& arena) {
   arena_ = &arena;
   kernels_ = std::make_unique<Kernels>();
   Kernels& k = *kernels_;
-  gpu::KernelSpec spec;
-  spec.name = "map_reactivate";
-  spec.spirv = shaders::map_reactivate;
-  spec.storage_buffers = 4;
-  spec.workgroup_size = {kWorkgroupSize, 1, 1};
-  spec.max_binding_sets = 2;
-  k.reactivate = gpu::ComputeKernel::create(context_, std::move(spec));
-  gpu::KernelSpec move_spec;
-  move_spec.name = "map_reactivate_move";
-  move_spec.spirv = shaders::map_reactivate_move;
-  move_spec.storage_buffers = 3;
-  move_spec.workgroup_size = {kWorkgroupSize, 1, 1};
-  move_spec.max_binding_sets = 2;
-  k.move = gpu::ComputeKernel::create(context_, std::move(move_spec));
+  // Both kernels: grid-stride over pixels or moves, one binding set per surfel-array parity.
+  const auto create = [&](const char* name, std::span<const std::uint32_t> spirv, std::uint32_t storage_buffers) {
+    gpu::KernelSpec spec;
+    spec.name = name;
+    spec.spirv = spirv;
+    spec.storage_buffers = storage_buffers;
+    spec.workgroup_size = {kWorkgroupSize, 1, 1};
+    spec.max_binding_sets = 2;
+    return gpu::ComputeKernel::create(context_, std::move(spec));
+  };
+  k.reactivate = create("map_reactivate", shaders::map_reactivate, 4);
+  k.move = create("map_reactivate_move", shaders::map_reactivate_move, 3);
   const std::uint32_t groups = surfelWorkgroups(context_, kWorkgroups);
   const auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
   for (int parity = 0; parity < 2; ++parity) {

@@ -14,8 +14,8 @@
 #include <sstream>
 
 #include "fnv1a.hpp"
+#include "vifusion/core/crc32.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
-#include "vifusion/mcap/crc32.hpp"
 #include "vifusion/mcap/mcap_reader.hpp"
 
 namespace vifusion::test {
@@ -194,7 +194,7 @@ McapContents readWithMcapReader(const std::filesystem::path& path) {
   for (mcap::MessageView m; reader.readNext(m);) {
     const mcap::ChannelInfo* channel = reader.channel(m.channel_id);
     contents.messages.push_back({channel != nullptr ? channel->topic : "?", m.sequence, m.log_time_ns,
-                                 m.publish_time_ns, m.data.size(), mcap::crc32(m.data)});
+                                 m.publish_time_ns, m.data.size(), crc32(m.data)});
   }
   contents.chunks = reader.chunks().size();
   contents.complete = reader.complete();

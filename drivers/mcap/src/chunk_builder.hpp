@@ -11,7 +11,7 @@
 
 #include "record_builder.hpp"
 #include "record_encoding.hpp"
-#include "vifusion/mcap/crc32.hpp"
+#include "vifusion/core/crc32.hpp"
 #include "vifusion/mcap/mcap_format.hpp"
 
 namespace vifusion::mcap::detail {

@@ -7,7 +7,7 @@
 
 #include "record_parser.hpp"
 #include "recording_contents.hpp"
-#include "vifusion/mcap/little_endian.hpp"
+#include "vifusion/core/little_endian.hpp"
 #include "vifusion/mcap/mcap_format.hpp"
 
 namespace vifusion::mcap::detail {

@@ -9,8 +9,8 @@
 #include "record_builder.hpp"
 #include "record_encoding.hpp"
 #include "vifusion/core/error.hpp"
-#include "vifusion/mcap/crc32.hpp"
-#include "vifusion/mcap/little_endian.hpp"
+#include "vifusion/core/crc32.hpp"
+#include "vifusion/core/little_endian.hpp"
 #include "vifusion/mcap/mcap_format.hpp"
 
 namespace vifusion::mcap {

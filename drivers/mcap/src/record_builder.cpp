@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-#include "vifusion/mcap/little_endian.hpp"
+#include "vifusion/core/little_endian.hpp"
 
 namespace vifusion::mcap::detail {
 

@@ -1,6 +1,6 @@
 #include "record_encoding.hpp"
 
-#include "vifusion/mcap/crc32.hpp"
+#include "vifusion/core/crc32.hpp"
 #include "vifusion/mcap/mcap_format.hpp"
 
 namespace vifusion::mcap::detail {

@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <limits>
 
-#include "vifusion/mcap/crc32.hpp"
-#include "vifusion/mcap/little_endian.hpp"
+#include "vifusion/core/crc32.hpp"
+#include "vifusion/core/little_endian.hpp"
 #include "vifusion/mcap/mcap_format.hpp"
 
 namespace vifusion::mcap::detail {

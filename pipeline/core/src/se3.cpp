@@ -25,6 +25,13 @@ Eigen::Matrix3d leftJacobianQ(const Eigen::Vector3d& rho, const Eigen::Vector3d&
 
 SE3d::SE3d(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) : q_(q.normalized()), t_(t) {}
 
+SE3d SE3d::fromUnitQuaternion(const Eigen::Quaterniond& q_unit, const Eigen::Vector3d& t) {
+  SE3d T;
+  T.q_ = q_unit;
+  T.t_ = t;
+  return T;
+}
+
 SE3d SE3d::exp(const Vector6d& xi) {
   const Eigen::Vector3d phi = xi.tail<3>();
   return SE3d(expSO3(phi), leftJacobianSO3(phi) * xi.head<3>());

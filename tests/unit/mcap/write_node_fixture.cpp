@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "vifusion/core/crc32.hpp"
 #include "vifusion/core/error.hpp"
-#include "vifusion/mcap/crc32.hpp"
 #include "vifusion/mcap/mcap_reader.hpp"
 #include "vifusion/mcap/mcap_writer.hpp"
 
@@ -68,13 +68,13 @@ std::string messageLine(const Written& m) {
          std::to_string(m.channel_id) + ",\"sequence\":" + std::to_string(m.sequence) + ",\"log_time\":\"" +
          std::to_string(m.log_time_ns) + "\",\"publish_time\":\"" + std::to_string(m.publish_time_ns) +
          "\",\"size\":" + std::to_string(m.data.size()) + ",\"head\":\"" + hex(m.data) +
-         "\",\"crc32\":" + std::to_string(crc32(m.data)) + "}\n";
+         "\",\"crc32\":" + std::to_string(vifusion::crc32(m.data)) + "}\n";
 }
 
 std::string attachmentsJson(const std::vector<std::uint8_t>& yaml) {
   return "[{\"name\":\"calibration.yaml\",\"media_type\":\"application/yaml\",\"log_time\":\"" +
          std::to_string(kAttachmentLogTimeNs) + "\",\"size\":" + std::to_string(yaml.size()) +
-         ",\"crc32\":" + std::to_string(crc32(yaml)) + "}]";
+         ",\"crc32\":" + std::to_string(vifusion::crc32(yaml)) + "}]";
 }
 
 void writeText(const std::filesystem::path& path, const std::string& text) {

@@ -30,6 +30,10 @@ class SE3d {
   /// From a rotation (normalised here, so callers may pass a nearly unit quaternion) and a translation [m].
   SE3d(const Eigen::Quaterniond& q, const Eigen::Vector3d& t);
 
+  /// From a quaternion that was normalised where it was made (a pose read back from a file), kept bit for bit:
+  /// normalising it again could change its last bits, and a saved map read and saved again must not change.
+  static SE3d fromUnitQuaternion(const Eigen::Quaterniond& q_unit, const Eigen::Vector3d& t);
+
   static SE3d exp(const Vector6d& xi);
   /// The twist ξ = [ρ; φ] with |φ| ∈ [0, π] and exp(ξ) = *this.
   Vector6d log() const;

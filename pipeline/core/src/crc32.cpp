@@ -1,9 +1,9 @@
-#include "vifusion/mcap/crc32.hpp"
+#include "vifusion/core/crc32.hpp"
 
 #include <array>
 #include <cstddef>
 
-namespace vifusion::mcap {
+namespace vifusion {
 namespace {
 
 constexpr std::uint32_t kReflectedPolynomial = 0xEDB88320u;  // IEEE 802.3, bit-reversed
@@ -57,4 +57,4 @@ std::uint32_t crc32(std::span<const std::uint8_t> bytes) {
   return crc.value();
 }
 
-}  // namespace vifusion::mcap
+}  // namespace vifusion

@@ -6,9 +6,9 @@
 #include <string_view>
 #include <vector>
 
-#include "vifusion/mcap/crc32.hpp"
+#include "vifusion/core/crc32.hpp"
 
-namespace vifusion::mcap {
+namespace vifusion {
 namespace {
 
 std::span<const std::uint8_t> bytes(std::string_view text) {
@@ -58,4 +58,4 @@ TEST(Crc32, PiecesInOrderEqualTheWhole) {
 }
 
 }  // namespace
-}  // namespace vifusion::mcap
+}  // namespace vifusion

@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-namespace vifusion::mcap {
+namespace vifusion {
 
 inline void storeU16(std::uint8_t* out, std::uint16_t value) {
   out[0] = static_cast<std::uint8_t>(value);
@@ -36,4 +36,4 @@ inline std::uint64_t loadU64(const std::uint8_t* in) {
   return value;
 }
 
-}  // namespace vifusion::mcap
+}  // namespace vifusion

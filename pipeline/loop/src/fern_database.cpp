@@ -111,11 +111,7 @@ FernMatch FernDatabase::query(const FernCodes& codes, std::uint32_t current_fram
 FernAddResult FernDatabase::addIfNovel(const FernFrame& frame, const SE3d& T_W_C, std::int64_t t_ns,
                                        std::uint32_t frame_index) {
   checkCodes(frame.codes);
-  if (frame.image.width() != encoder_.width() || frame.image.height() != encoder_.height()) {
-    throw Error("fern database: keyframe image " + std::to_string(frame.image.width()) + "×" +
-                std::to_string(frame.image.height()) + ", expected " + std::to_string(encoder_.width()) + "×" +
-                std::to_string(encoder_.height()));
-  }
+  checkImage(frame.image);
   if (frame.codes.validCount() < min_valid_ferns_) return {FernAddOutcome::kTooFewValid, FernMatch::kNone, 1.0};
 
   const FernMatch match = nearest(frame.codes);
@@ -127,6 +123,11 @@ FernAddResult FernDatabase::addIfNovel(const FernFrame& frame, const SE3d& T_W_C
     return {FernAddOutcome::kFull, match.keyframe, match.dissimilarity};
   }
 
+  return {FernAddOutcome::kAdded, store(frame, T_W_C, t_ns, frame_index), match.dissimilarity};
+}
+
+std::int32_t FernDatabase::store(const FernFrame& frame, const SE3d& T_W_C, std::int64_t t_ns,
+                                 std::uint32_t frame_index) {
   const std::int32_t id = size_;
   const auto slot = static_cast<std::size_t>(id);
   const auto ferns = static_cast<std::size_t>(num_ferns_);
@@ -145,7 +146,23 @@ FernAddResult FernDatabase::addIfNovel(const FernFrame& frame, const SE3d& T_W_C
     head = id;
   }
   ++size_;
-  return {FernAddOutcome::kAdded, id, match.dissimilarity};
+  return id;
+}
+
+std::int32_t FernDatabase::restore(const FernFrame& frame, const SE3d& T_W_C, std::int64_t t_ns,
+                                   std::uint32_t frame_index) {
+  checkCodes(frame.codes);
+  checkImage(frame.image);
+  if (full()) throw Error("fern database: full (" + std::to_string(options_.capacity) + " keyframes) while restoring");
+  return store(frame, T_W_C, t_ns, frame_index);
+}
+
+void FernDatabase::checkImage(const FernImage& image) const {
+  if (image.width() != encoder_.width() || image.height() != encoder_.height()) {
+    throw Error("fern database: keyframe image " + std::to_string(image.width()) + "×" +
+                std::to_string(image.height()) + ", expected " + std::to_string(encoder_.width()) + "×" +
+                std::to_string(encoder_.height()));
+  }
 }
 
 void FernDatabase::setPose(std::int32_t id, const SE3d& T_W_C) {

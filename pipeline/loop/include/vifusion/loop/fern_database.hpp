@@ -95,6 +95,11 @@ class FernDatabase {
   /// The caller adds only while tracking is good (the pose is stored as given).
   FernAddResult addIfNovel(const FernFrame& frame, const SE3d& T_W_C, std::int64_t t_ns, std::uint32_t frame_index);
 
+  /// Stores a keyframe of a saved map as it was saved, without the novelty rule (a loaded database holds
+  /// exactly the keyframes it held when it was saved). @returns its id
+  /// @throws vifusion::Error when the codes or image do not fit this database or it is full
+  std::int32_t restore(const FernFrame& frame, const SE3d& T_W_C, std::int64_t t_ns, std::uint32_t frame_index);
+
   /// Replaces a keyframe's pose (after a map deformation moved it). id in [0, size()).
   void setPose(std::int32_t id, const SE3d& T_W_C);
 
@@ -106,6 +111,8 @@ class FernDatabase {
 
   int size() const { return size_; }
   int capacity() const { return options_.capacity; }
+  int inputWidth() const { return input_width_; }    ///< width of the frames it encodes [px]
+  int inputHeight() const { return input_height_; }  ///< height of the frames it encodes [px]
   bool full() const { return size_ == options_.capacity; }
   /// Novel frames refused because the database was full, since construction or reset(). Non-zero means
   /// places explored since the database filled cannot be recognised: a health metric, not an error.
@@ -119,6 +126,9 @@ class FernDatabase {
   template <typename Eligible>
   FernMatch best(const FernCodes& codes, Eligible eligible);
   void checkCodes(const FernCodes& codes) const;
+  void checkImage(const FernImage& image) const;
+  /// Stores the frame in the next slot and indexes its codes. @returns its id
+  std::int32_t store(const FernFrame& frame, const SE3d& T_W_C, std::int64_t t_ns, std::uint32_t frame_index);
 
   FernOptions options_;
   int input_width_;

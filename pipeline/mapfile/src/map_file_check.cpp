@@ -24,7 +24,8 @@ MapFileSummary checkMapFile(const std::string& path) {
   summary.calibration = readCalibration(reader);
   summary.has_state = readState(reader).has_value();
   summary.trajectory_poses = readTrajectory(reader).size();
-  summary.keyframes = readKeyframes(reader).size();
+  const std::optional<loop::FernDatabase> keyframes = readKeyframes(reader);
+  summary.keyframes = keyframes ? keyframes->size() : 0;
   summary.surfels = beginSurfels(reader);
   std::vector<float> chunk(kSurfelsPerChunk * kSurfelFloats);
   for (std::uint32_t first = 0; first < summary.surfels.surfel_count;) {

@@ -227,8 +227,14 @@ std::vector<StampedPose> readTrajectory(MapFileReader& reader) {
   return poses;
 }
 
-void writeKeyframes(MapFileWriter& writer, const loop::FernDatabase& database) {
+void writeKeyframes(MapFileWriter& writer, const loop::FernDatabase* saved) {
   writer.beginSection(MapSection::kKeyframes);
+  writer.putU8(saved != nullptr ? 1 : 0);
+  if (saved == nullptr) {
+    writer.endSection();
+    return;
+  }
+  const loop::FernDatabase& database = *saved;
   const loop::FernOptions& options = database.options();
   writer.putI32(options.num_ferns);
   writer.putI32(options.downsample_factor);
@@ -256,8 +262,15 @@ void writeKeyframes(MapFileWriter& writer, const loop::FernDatabase& database) {
   writer.endSection();
 }
 
-loop::FernDatabase readKeyframes(MapFileReader& reader) {
+std::optional<loop::FernDatabase> readKeyframes(MapFileReader& reader) {
   reader.beginSection(MapSection::kKeyframes);
+  const std::uint8_t present = reader.getU8();
+  if (present > 1) reader.fail("presence flag " + std::to_string(present) + " (0 or 1)");
+  std::optional<loop::FernDatabase> database;
+  if (present == 0) {
+    reader.endSection();
+    return database;
+  }
   loop::FernOptions options;
   options.num_ferns = reader.getI32();
   options.downsample_factor = reader.getI32();
@@ -271,7 +284,6 @@ loop::FernDatabase readKeyframes(MapFileReader& reader) {
   const std::uint32_t count = reader.getU32();
   if (count > static_cast<std::uint32_t>(std::max(options.capacity, 0)))
     reader.fail(std::to_string(count) + " keyframes in a database of capacity " + std::to_string(options.capacity));
-  std::optional<loop::FernDatabase> database;
   try {
     database.emplace(options, input_width, input_height);
   } catch (const Error& error) {
@@ -297,7 +309,7 @@ loop::FernDatabase readKeyframes(MapFileReader& reader) {
     database->restore(frame, T_W_C, t_ns, frame_index);
   }
   reader.endSection();
-  return std::move(*database);
+  return database;
 }
 
 void beginSurfels(MapFileWriter& writer, const SurfelsHeader& header) {

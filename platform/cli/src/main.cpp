@@ -6,6 +6,7 @@
 
 #include "eval_command.hpp"
 #include "gpu_self_check.hpp"
+#include "map_command.hpp"
 #include "record_command.hpp"
 #include "run_command.hpp"
 #include "service_commands.hpp"
@@ -61,6 +62,9 @@ int main(int argc, char** argv) {
                   "Surfels the map holds (fixed GPU memory, about 110 bytes a surfel: report.json arena_bytes)")
       ->capture_default_str()
       ->check(CLI::Range(1u << 16, 1u << 26));
+  run->add_option("--save-map", run_options.save_map,
+                  "Save the map at the end of the run to this file (surfels, keyframes, trajectory, calibration, "
+                  "estimator state; `vifusion map info FILE` checks it)");
 
   vifusion::cli::EvalOptions eval;
   CLI::App* eval_command = app.add_subcommand(
@@ -205,6 +209,15 @@ int main(int argc, char** argv) {
   status_command->add_option("--timeout", status.timeout_s, "Wait at most this many seconds")->capture_default_str();
   add_dds_options(status_command, status.dds);
 
+  CLI::App* map_command = app.add_subcommand("map", "Map files (vifusion run --save-map)");
+  map_command->require_subcommand(1);
+  std::string map_file;
+  CLI::App* map_info_command = map_command->add_subcommand(
+      "info",
+      "Check a map file (every section's checksum, sizes and values) and print what it holds as JSON; exit 2 "
+      "naming the damaged section");
+  map_info_command->add_option("file", map_file, "The map file")->required();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (self_check_command->parsed()) return vifusion::cli::runGpuSelfCheck(self_check);
@@ -214,6 +227,7 @@ int main(int argc, char** argv) {
     if (echo_command->parsed()) return vifusion::cli::runEcho(echo);
     if (status_command->parsed()) return vifusion::cli::runStatus(status);
     if (record_command->parsed()) return vifusion::cli::runRecord(record);
+    if (map_info_command->parsed()) return vifusion::cli::runMapInfo(map_file);
     if (synccheck_command->parsed()) {
       sync.edges = polarity;
       sync.check.edge_polarity = *vifusion::synccheck::parseEdgePolarity(polarity);

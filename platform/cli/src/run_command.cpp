@@ -24,6 +24,7 @@
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 #include "vifusion/map/surfel_ply.hpp"
+#include "vifusion/slam/map_saving.hpp"
 #include "vifusion/slam/slam.hpp"
 #ifdef VIFUSION_WITH_ZR300
 #include "vifusion/zr300/zr300_source.hpp"
@@ -159,6 +160,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   FrameLog frame_log(reserved);
   int imu_issues = 0;
   int relocalisations = 0;
+  std::optional<NavState> last_state;  ///< the estimator's, for a saved map
   RgbdFrame frame;
   TrackingStateCounts states_seen;
   ClosureCounts closures;
@@ -183,7 +185,10 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
     closure_judge.add(result);
     trajectory.push_back({result.t_ns, result.T_W_C});
     frame_log.add(result);
-    if (result.inertial) states.push_back({result.t_ns, result.state, result.state_variance});
+    if (result.inertial) {
+      states.push_back({result.t_ns, result.state, result.state_variance});
+      last_state = result.state;
+    }
     if (result.imu_issue && ++imu_issues <= 10) {  // the report counts them all
       std::fprintf(stderr, "vifusion run: frame %lld: IMU not used: %s\n", static_cast<long long>(frame.index),
                    result.imu_issue->message().c_str());
@@ -275,6 +280,18 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   const std::size_t map_points = map::writeSurfelPly(std::filesystem::path(options.out) / "map.ply", map_surfels,
                                                      map::SurfelPlyOptions::stableOnly(slam_options.map));
   report["map_ply_surfels"] = map_points;
+  if (!options.save_map.empty()) {
+    std::vector<mapfile::StampedPose> poses;
+    poses.reserve(trajectory.size());
+    for (const eval::StampedPose& pose : trajectory) poses.push_back({pose.t_ns, pose.T_world_body});
+    const slam::MapSaveReport saved =
+        slam::saveMap(pipeline, {slam_options.mode, &reader->calibration(), poses, last_state}, options.save_map);
+    report["map_file"] = {{"path", options.save_map},
+                          {"bytes", saved.bytes},
+                          {"surfels", saved.surfels},
+                          {"keyframes", saved.keyframes},
+                          {"save_ms", saved.elapsed_ms}};
+  }
 
   const std::filesystem::path report_path = std::filesystem::path(options.out) / "report.json";
   {

@@ -2,7 +2,7 @@
 // `vifusion run`: the main job. Opens a source (a dataset spec, `sim:NAME`, which generates the
 // synthetic sequence first, or the live camera `zr300[:SERIAL]`, which runs until --frames or Ctrl-C), runs the
 // pipeline on every frame and writes trajectory.txt (TUM), map.ply and report.json into the output directory, and in
-// the inertial modes states.csv (eval/state_csv.hpp).
+// the inertial modes states.csv (eval/state_csv.hpp); with --save-map also the map file.
 
 #include <cstdint>
 #include <memory>
@@ -29,6 +29,7 @@ struct RunOptions {
   bool loop_closure = true;    ///< local loop closure by map deformation (off: the paper's open-loop odometry)
   bool relocalisation = true;  ///< relocalise a lost camera by place recognition (slam/relocaliser.hpp)
   bool gravity_term = true;    ///< the paper's E_imu in the deformation energy (inertial modes; the ablation when off)
+  std::string save_map;        ///< non-empty: save the map to this file at the end (slam/map_saving.hpp)
 };
 
 /// Returns the exit code: 0, or 3 when the live camera cannot be opened (the message on stderr names what is

@@ -30,7 +30,7 @@ SE3d randomPose(std::mt19937_64& rng) {
 }  // namespace
 
 SampleMap::SampleMap(std::uint64_t seed, std::uint32_t surfel_count)
-    : keyframes(sampleFernOptions(), kInputWidth, kInputHeight) {
+    : keyframes(std::in_place, sampleFernOptions(), kInputWidth, kInputHeight) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> normal;
   meta = {"rgbdi", 321, 1'000'000'000, 11'700'000'000};
@@ -52,7 +52,7 @@ SampleMap::SampleMap(std::uint64_t seed, std::uint32_t surfel_count)
   state = x;
   for (int k = 0; k < 321; ++k) trajectory.push_back({1'000'000'000 + k * 33'333'333LL, randomPose(rng)});
 
-  loop::FernFrame frame = keyframes.makeFrame();
+  loop::FernFrame frame = keyframes->makeFrame();
   std::uniform_int_distribution<int> byte(0, 255), code(0, loop::kFernCodeCount);
   for (int k = 0; k < 5; ++k) {
     for (int fern = 0; fern < frame.codes.size(); ++fern) {
@@ -66,8 +66,8 @@ SampleMap::SampleMap(std::uint64_t seed, std::uint32_t surfel_count)
                  static_cast<std::uint8_t>(byte(rng))};
         frame.image.depth_m.view().row(y)[x] = static_cast<float>(std::abs(normal(rng)) * 2.0);
       }
-    keyframes.restore(frame, randomPose(rng), 1'000'000'000 + 60 * k * 33'333'333LL,
-                      static_cast<std::uint32_t>(60 * k));
+    keyframes->restore(frame, randomPose(rng), 1'000'000'000 + 60 * k * 33'333'333LL,
+                       static_cast<std::uint32_t>(60 * k));
   }
 
   surfels_header = {surfel_count, surfel_count / 3, 320};
@@ -85,7 +85,7 @@ void writeSampleMap(const SampleMap& map, const std::string& path, std::size_t b
   writeCalibration(writer, map.calibration);
   writeState(writer, map.state);
   writeTrajectory(writer, map.trajectory);
-  writeKeyframes(writer, map.keyframes);
+  writeKeyframes(writer, map.keyframes ? &*map.keyframes : nullptr);
   beginSurfels(writer, map.surfels_header);
   for (std::size_t first = 0; first < map.surfels_header.surfel_count; first += chunk_surfels) {
     const std::size_t n = std::min<std::size_t>(chunk_surfels, map.surfels_header.surfel_count - first);
@@ -102,7 +102,8 @@ void copyMapFile(const std::string& path_in, const std::string& path_out, std::s
   writeCalibration(writer, readCalibration(reader));
   writeState(writer, readState(reader));
   writeTrajectory(writer, readTrajectory(reader));
-  writeKeyframes(writer, readKeyframes(reader));
+  const std::optional<loop::FernDatabase> keyframes = readKeyframes(reader);
+  writeKeyframes(writer, keyframes ? &*keyframes : nullptr);
   const SurfelsHeader header = beginSurfels(reader);
   beginSurfels(writer, header);
   std::vector<float> surfel(kSurfelFloats);

@@ -19,7 +19,7 @@ struct SampleMap {
   RigCalibration calibration;
   std::optional<NavState> state;
   std::vector<StampedPose> trajectory;
-  loop::FernDatabase keyframes;
+  std::optional<loop::FernDatabase> keyframes;  ///< nullopt: relocalisation was off
   SurfelsHeader surfels_header;
   std::vector<float> surfels;  ///< surfel_count × kSurfelFloats
 

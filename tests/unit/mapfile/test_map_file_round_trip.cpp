@@ -45,12 +45,14 @@ TEST(MapFile, EverySectionReadsBackAsWritten) {
     EXPECT_EQ(trajectory[k].t_ns, map.trajectory[k].t_ns);
     expectSamePose(trajectory[k].T_W_C, map.trajectory[k].T_W_C);
   }
-  const loop::FernDatabase keyframes = readKeyframes(reader);
+  const std::optional<loop::FernDatabase> saved = readKeyframes(reader);
+  ASSERT_TRUE(saved.has_value());
+  const loop::FernDatabase& keyframes = *saved;
   EXPECT_EQ(keyframes.options().seed, 7u);
-  EXPECT_EQ(keyframes.encoder().ferns(), map.keyframes.encoder().ferns());  // the seed draws the same ferns
-  ASSERT_EQ(keyframes.size(), map.keyframes.size());
+  EXPECT_EQ(keyframes.encoder().ferns(), map.keyframes->encoder().ferns());  // the seed draws the same ferns
+  ASSERT_EQ(keyframes.size(), map.keyframes->size());
   for (std::int32_t id = 0; id < keyframes.size(); ++id) {
-    const loop::FernKeyframe a = keyframes.keyframe(id), b = map.keyframes.keyframe(id);
+    const loop::FernKeyframe a = keyframes.keyframe(id), b = map.keyframes->keyframe(id);
     expectSamePose(a.T_W_C, b.T_W_C);
     EXPECT_EQ(a.frame_index, b.frame_index);
     EXPECT_TRUE(std::equal(a.codes.begin(), a.codes.end(), b.codes.begin(), b.codes.end()));
@@ -63,7 +65,7 @@ TEST(MapFile, EverySectionReadsBackAsWritten) {
     // The restored database answers queries as the original does.
     loop::FernCodes codes(keyframes.options().num_ferns);
     for (int f = 0; f < codes.size(); ++f) codes.set(f, a.codes[static_cast<std::size_t>(f)]);
-    loop::FernDatabase original = map.keyframes;
+    loop::FernDatabase original = *map.keyframes;
     loop::FernDatabase restored = keyframes;
     EXPECT_EQ(restored.nearest(codes).keyframe, original.nearest(codes).keyframe);
   }
@@ -107,17 +109,28 @@ TEST(MapFile, CheckSummarisesASoundFile) {
   EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kSurfels)], 12u + 500u * 48u);
   EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kTrajectory)], 8u + 321u * 64u);
   EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kEnd)], 0u);
+  // The sizes the README's layout table gives.
+  EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kMeta)], 24u + 5u);     // "rgbdi"
+  EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kCalibration)], 345u);  // with a depth camera
+  EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kState)], 161u);
+  EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kKeyframes)],
+            57u + 5u * (68u + 60u + 7u * 8u * 6u));  // 5 keyframes, 60 ferns, 8×6 fern images
 }
 
 TEST(MapFile, AnRgbdMapHasNoState) {
   SampleMap map(4, 0);
   map.state.reset();
   map.calibration.depth_camera.reset();
+  map.keyframes.reset();
   const std::string path = temporaryPath("map.vifmap");
   writeSampleMap(map, path);
   const MapFileSummary summary = checkMapFile(path);
   EXPECT_FALSE(summary.has_state);
   EXPECT_FALSE(summary.calibration.depth_camera.has_value());
+  EXPECT_EQ(summary.keyframes, 0);
+  EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kKeyframes)], 1u);
+  EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kCalibration)], 249u);
+  EXPECT_EQ(summary.section_bytes[static_cast<std::size_t>(MapSection::kState)], 1u);
   EXPECT_EQ(summary.surfels.surfel_count, 0u);
 }
 

@@ -21,7 +21,7 @@ struct MapFileSummary {
   RigCalibration calibration;
   bool has_state = false;  ///< the estimator's state was saved (inertial modes)
   std::uint64_t trajectory_poses = 0;
-  int keyframes = 0;
+  int keyframes = 0;  ///< 0 also when no database was saved
   SurfelsHeader surfels;
 };
 

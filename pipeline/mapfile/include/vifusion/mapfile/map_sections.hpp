@@ -13,7 +13,8 @@
 //   state     u8 present | NavState: f64×3 r_W_C, f64×4 q_W_C (xyzw), f64×3 v_I_S, f64×3 b_g, f64×3 b_a,
 //             f64×4 q_I_W (xyzw: the gravity direction in W)
 //   traj      u64 poses | per pose: i64 t_ns, pose
-//   keyframe  fern options: i32 num_ferns, i32 downsample_factor, f32 min_depth_m, f32 max_depth_m,
+//   keyframe  u8 present (0: relocalisation was off, nothing follows) | fern options: i32 num_ferns, i32
+//   downsample_factor, f32 min_depth_m, f32 max_depth_m,
 //             f64 keyframe_threshold, f64 min_valid_fraction, i32 capacity, u64 seed | i32 input width, i32 input
 //             height | u32 keyframes | per keyframe: pose, i64 t_ns, u32 frame index, u8×num_ferns codes,
 //             u8×3·w·h colour, f32×w·h depth_m (w × h: the input size / downsample_factor)
@@ -76,9 +77,11 @@ std::optional<NavState> readState(MapFileReader& reader);
 void writeTrajectory(MapFileWriter& writer, std::span<const StampedPose> poses);
 std::vector<StampedPose> readTrajectory(MapFileReader& reader);
 
-void writeKeyframes(MapFileWriter& writer, const loop::FernDatabase& database);
-/// A database with the saved options (so the same ferns) and keyframes, in their saved order.
-loop::FernDatabase readKeyframes(MapFileReader& reader);
+/// `database`: null when the run kept none (relocalisation off).
+void writeKeyframes(MapFileWriter& writer, const loop::FernDatabase* database);
+/// A database with the saved options (so the same ferns) and keyframes, in their saved order; nullopt when
+/// none was saved.
+std::optional<loop::FernDatabase> readKeyframes(MapFileReader& reader);
 
 /// Begins the surfels section; the caller then puts header.surfel_count records (putF32s, in chunks) and
 /// ends the section.

@@ -73,6 +73,8 @@ class Relocaliser {
     }
   }
   int keyframes() const { return database_.size(); }
+  /// The keyframes and their ferns (what a saved map keeps: mapfile/map_sections.hpp).
+  const loop::FernDatabase& database() const { return database_; }
   /// The block-averaging factor fern_image_width chose for this frame size.
   int downsampleFactor() const { return options_.ferns.downsample_factor; }
   /// Novel frames refused because the database was full (FernDatabase::fullRefusals).

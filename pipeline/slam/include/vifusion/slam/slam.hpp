@@ -157,6 +157,14 @@ class Slam {
   /// staging buffer. For the end of a run or shutdown, not the per-frame path: it allocates.
   void exportMap(std::vector<map::Surfel>& surfels) { exporter_->read(surfels); }
 
+  /// Visits the live surfels chunk by chunk through the export's staging buffer (map_export.hpp), in map order,
+  /// and returns their number: how a map is saved without a host copy of it. Not the per-frame path.
+  std::uint32_t visitMap(const map::MapExport::ChunkVisitor& visit) { return exporter_->visitChunks(visit); }
+  /// The map's counters after the last frame.
+  map::MapState mapState() const { return map_->readState(*arena_); }
+  /// The relocalisation keyframes; null when relocalisation is off.
+  const loop::FernDatabase* keyframeDatabase() const { return relocaliser_ ? &relocaliser_->database() : nullptr; }
+
   /// After a frame whose closure was accepted, the pose T_W_C of an earlier frame `frame` moved with the map
   /// (its position bound to the deformation graph by time, as the surfels are); unchanged without loop closure.
   SE3d deformPose(const SE3d& T_W_C, std::uint32_t frame) const {

@@ -33,6 +33,14 @@ void MapBuffers::reset(const gpu::MemoryArena& arena) {
   current_ = 0;
 }
 
+void MapBuffers::setLoaded(const gpu::MemoryArena& arena, std::uint32_t surfel_count, std::uint32_t frame) const {
+  MapState state;
+  state.surfel_count = surfel_count;
+  state.frame = frame;
+  state.active_begin = 0;
+  std::memcpy(arena.buffer(state_).mapped, &state, sizeof(state));
+}
+
 void MapBuffers::visitWholeMapNextFrame(const gpu::MemoryArena& arena) const {
   MapState state = readState(arena);
   state.active_begin = 0;

@@ -66,6 +66,9 @@ class MapBuffers {
   MapState readState(const gpu::MemoryArena& arena) const;
   /// Empties the map: count, overflow and frame to 0 (start-up, or between independent runs).
   void reset(const gpu::MemoryArena& arena);
+  /// After MapImport wrote `surfel_count` surfels into the current array: the map holds them, last fused at
+  /// `frame`, nothing overflowed, and the next frame visits the whole map. Host write, as reset().
+  void setLoaded(const gpu::MemoryArena& arena, std::uint32_t surfel_count, std::uint32_t frame) const;
   /// Makes the next frame's passes visit the whole map (active_begin = 0) and its maintenance
   /// partition it again: after the prefix changed in one array only (a deformation) or when the
   /// inactive ones must be visited (eviction from a full map). Host write: call only while no

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iomanip>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "vifusion/core/error.hpp"
@@ -85,7 +86,11 @@ void requireStrictlyIncreasing(const std::vector<std::int64_t>& stamps_ns, const
 
 }  // namespace
 
-AteResult ate(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est, double max_difference_s) {
+namespace {
+
+/// ATE over the associated pairs with the alignment `given`, or alignRigid's when it is empty.
+AteResult ateAligned(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est, double max_difference_s,
+                     const std::optional<SE3d>& given) {
   const std::vector<Match> matches = associate(stampsOf(gt), stampsOf(est), secondsToNs(max_difference_s));
   if (matches.size() < 3) {
     std::ostringstream message;
@@ -110,7 +115,7 @@ AteResult ate(const std::vector<StampedPose>& gt, const std::vector<StampedPose>
   }
 
   result.pairs = matches.size();
-  result.T_gt_est = alignRigid(p_est, p_gt);
+  result.T_gt_est = given ? *given : alignRigid(p_est, p_gt);
   std::vector<double>& errors_m = result.errors_m;
   for (std::size_t i = 0; i < p_est.size(); ++i) errors_m.push_back((result.T_gt_est * p_est[i] - p_gt[i]).norm());
 
@@ -123,6 +128,17 @@ AteResult ate(const std::vector<StampedPose>& gt, const std::vector<StampedPose>
   result.min_m = *std::min_element(errors_m.begin(), errors_m.end());
   result.max_m = *std::max_element(errors_m.begin(), errors_m.end());
   return result;
+}
+
+}  // namespace
+
+AteResult ate(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est, double max_difference_s) {
+  return ateAligned(gt, est, max_difference_s, std::nullopt);
+}
+
+AteResult ateInFrame(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est, const SE3d& T_gt_est,
+                     double max_difference_s) {
+  return ateAligned(gt, est, max_difference_s, T_gt_est);
 }
 
 RpeResult rpe(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est, double delta_s) {
@@ -164,8 +180,8 @@ RpeResult rpe(const std::vector<StampedPose>& gt, const std::vector<StampedPose>
     rot_errors_rad.push_back(rotationAngleRad(E));
   }
   if (trans_errors_m.size() < 2) {
-    throw Error("rpe: only " + std::to_string(trans_errors_m.size()) +
-                " pose pairs " + std::to_string(delta_ns / kNsPerMillisecond) +
+    throw Error("rpe: only " + std::to_string(trans_errors_m.size()) + " pose pairs " +
+                std::to_string(delta_ns / kNsPerMillisecond) +
                 " ms apart have ground truth nearby (need 2); do the trajectories overlap?");
   }
 

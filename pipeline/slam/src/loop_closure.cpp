@@ -163,6 +163,12 @@ void LoopClosure::build(const gpu::MemoryArena& arena) {
   reactivation_->apply(0);
 }
 
+void LoopClosure::reactivateInView(const SE3d& T_W_C, std::uint32_t frame) {
+  inactive_->setView(T_W_C.inverse(), frame);
+  render_inactive_[map_.current()]->run();
+  reactivation_->apply(frame);
+}
+
 ClosureReport LoopClosure::tryClose(const SE3d& T_W_C, std::uint32_t frame, const std::optional<Eigen::Vector3d>& g_W) {
   ClosureReport report;
   const std::uint32_t first_frame = options_.first_frame > 0 ? options_.first_frame : map_.options().time_window_frames;

@@ -30,6 +30,18 @@ Relocaliser::Relocaliser(const RelocalisationOptions& options, int width, int he
       frame_(database_.makeFrame()),
       last_tracked_(options_.ferns.num_ferns) {}
 
+void Relocaliser::replaceDatabase(loop::FernDatabase database) {
+  if (database.inputWidth() != database_.inputWidth() || database.inputHeight() != database_.inputHeight()) {
+    throw Error("relocalisation: the saved keyframes are of " + std::to_string(database.inputWidth()) + "x" +
+                std::to_string(database.inputHeight()) + " frames, this camera's are " +
+                std::to_string(database_.inputWidth()) + "x" + std::to_string(database_.inputHeight()));
+  }
+  database_ = std::move(database);
+  options_.ferns = database_.options();
+  frame_ = database_.makeFrame();
+  last_tracked_ = loop::FernCodes(options_.ferns.num_ferns);
+}
+
 void Relocaliser::encode(const RgbdFrame& frame) { database_.encode(frame, frame_); }
 
 void Relocaliser::offer(const SE3d& T_W_C, std::int64_t t_ns, std::uint32_t frame_index) {

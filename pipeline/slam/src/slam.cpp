@@ -91,6 +91,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   prediction.levels = options.tracker.levels;
   prediction_ = std::make_unique<map::ModelPrediction>(context, plan_, *map_, camera, prediction);
   exporter_ = std::make_unique<map::MapExport>(context, plan_, *map_);
+  importer_ = std::make_unique<map::MapImport>(context, plan_, *map_);
   reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_);
   if (options.loop.enabled) {
     loop_closure_ =
@@ -122,6 +123,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   maintenance_->build(*arena_);
   prediction_->build(*arena_);
   exporter_->build(*arena_);
+  importer_->build(*arena_);
   reference_fill_->build(*arena_);
   map_->reset(*arena_);
   if (loop_closure_) loop_closure_->build(*arena_);
@@ -292,6 +294,36 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
   startEstimator(t_imu_ns, imu, &previous, result);
 }
 
+void Slam::locateInLoadedMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result) {
+  TrackingResult tracking;
+  SE3d T_W_place;
+  if (!relocalise(tracking, T_W_place)) {
+    result.tracking = TrackingState::kLost;
+    result.relocalising = true;
+    return;
+  }
+  relocalising_ = false;
+  T_W_reference_ = T_W_place;
+  T_previous_current_ = SE3d();
+  rgbd_lost_frames_ = 0;
+  result.T_W_C = T_W_place * tracking.T_ref_cur;
+  result.tracking = TrackingState::kTracked;
+  result.relocalised = true;
+  result.icp_inliers = tracking.icp_inliers;
+  result.icp_candidates = tracking.icp_candidates;
+  result.rgb_inliers = tracking.rgb_inliers;
+  result.iterations = tracking.iterations;
+  // The saved surfels in view have aged past the time window while the map was on disk and the camera was
+  // being located: active again, this frame fuses into them instead of mapping the place a second time.
+  loop_closure_->reactivateInView(result.T_W_C, frame_index_);
+  if (estimator_) {
+    // The saved gravity direction and biases; the velocity of the saved run's last frame says nothing now.
+    std::optional<NavState> start = loaded_state_;
+    if (start) start->v_I_S.setZero();
+    startEstimator(t_imu_ns, imu, start ? &*start : nullptr, result);
+  }
+}
+
 bool Slam::relocalise(TrackingResult& tracking, SE3d& T_W_place) {
   if (!relocaliser_) return false;
   const std::optional<PlaceCandidate> place = relocaliser_->candidate();
@@ -368,16 +400,18 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
 
   const std::int64_t t_imu_ns = frame.t_ns + time_shift_cam_imu_ns_;
   result.T_W_C = T_W_reference_;  // the first frame defines W (identity) and only starts the map
-  if (frame_index_ > 0) {
-    const auto track_start = std::chrono::steady_clock::now();
+  const auto track_start = std::chrono::steady_clock::now();
+  if (relocalising_) {
+    locateInLoadedMap(t_imu_ns, imu, result);
+  } else if (frame_index_ > first_frame_index_) {
     if (estimator_ && estimator_->initialised()) {
       trackInertial(t_imu_ns, imu, result);
     } else {
       trackRgbd(result);
     }
-    result.tracking_ms = msSince(track_start);
   }
-  if (estimator_ && !estimator_->initialised()) startEstimator(t_imu_ns, imu, nullptr, result);
+  result.tracking_ms = msSince(track_start);
+  if (estimator_ && !estimator_->initialised() && !relocalising_) startEstimator(t_imu_ns, imu, nullptr, result);
   // The next frame's reference is rendered here, except while RGB-D tracking is lost (trackRgbd).
   if (rgbd_lost_frames_ == 0) T_W_reference_ = result.T_W_C;
 
@@ -402,7 +436,9 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
     result.map_evicted = maintenance_->stats().evicted_when_full;
     result.coverage = reference_fill_->coverage().share();
   }
-  if (loop_closure_ && result.tracking == TrackingState::kTracked && frame_index_ > 0) closeLoop(result);
+  if (loop_closure_ && result.tracking == TrackingState::kTracked && frame_index_ > first_frame_index_) {
+    closeLoop(result);
+  }
   if (relocaliser_ && result.tracking == TrackingState::kTracked) {
     relocaliser_->offer(result.T_W_C, frame.t_ns, frame_index_);
   }

@@ -104,6 +104,13 @@ int runEval(const EvalOptions& options) {
   json report;
   report["ate"] = {{"rmse_m", ate.rmse_m}, {"mean_m", ate.mean_m}, {"median_m", ate.median_m}, {"std_m", ate.std_m},
                    {"min_m", ate.min_m},   {"max_m", ate.max_m},   {"pairs", ate.pairs}};
+  if (!options.gt_origin.empty()) {
+    // The estimate's W is the first camera of the run that built the map: its ground-truth pose is W's.
+    const std::vector<eval::StampedPose> origin = eval::readTum(options.gt_origin);
+    if (origin.empty()) throw Error(options.gt_origin + ": no poses (--gt-origin)");
+    const eval::AteResult in_frame = eval::ateInFrame(gt, est, origin.front().T_world_body, options.max_difference_s);
+    report["ate_in_origin_frame"] = {{"rmse_m", in_frame.rmse_m}, {"max_m", in_frame.max_m}, {"pairs", in_frame.pairs}};
+  }
   // A run shorter than two RPE steps has no relative error to report; that is not a failure of the
   // run, so the report says why instead of exiting.
   const double span_s = est.empty() ? 0.0 : nsToSeconds(est.back().t_ns - est.front().t_ns);

@@ -7,8 +7,11 @@
 namespace vifusion::cli {
 
 struct EvalOptions {
-  std::string gt;                  ///< TUM ground-truth trajectory (T_world_camera)
-  std::string est;                 ///< TUM estimated trajectory
+  std::string gt;   ///< TUM ground-truth trajectory (T_world_camera)
+  std::string est;  ///< TUM estimated trajectory
+  /// TUM ground truth of the run whose first camera is the estimate's W (a run that relocalised into a map
+  /// saved by that run): adds the ATE in that frame, without alignment (optional)
+  std::string gt_origin;
   std::string states;              ///< estimator states.csv (optional)
   std::string gt_states;           ///< groundtruth_states.csv (default: beside --gt)
   std::string map;                 ///< map PLY to score against the simulator's living room (optional)

@@ -62,6 +62,9 @@ int main(int argc, char** argv) {
                   "Surfels the map holds (fixed GPU memory, about 110 bytes a surfel: report.json arena_bytes)")
       ->capture_default_str()
       ->check(CLI::Range(1u << 16, 1u << 26));
+  run->add_option("--load-map", run_options.load_map,
+                  "Start from this saved map: relocalise into it (nothing is fused until then), then track and map in "
+                  "its frame");
   run->add_option("--save-map", run_options.save_map,
                   "Save the map at the end of the run to this file (surfels, keyframes, trajectory, calibration, "
                   "estimator state; `vifusion map info FILE` checks it)");
@@ -71,6 +74,9 @@ int main(int argc, char** argv) {
       "eval", "Evaluate a run against ground truth: ATE, RPE, velocity/bias/gravity errors; one JSON line on stdout");
   eval_command->add_option("--gt", eval.gt, "Ground-truth trajectory (TUM format, T_world_camera)")->required();
   eval_command->add_option("--est", eval.est, "Estimated trajectory (TUM format)")->required();
+  eval_command->add_option("--gt-origin", eval.gt_origin,
+                           "Ground truth of the run that saved the map this run loaded: adds the ATE in its frame "
+                           "(W = its first camera), without alignment");
   eval_command->add_option("--states", eval.states, "Estimator states.csv: adds velocity, bias and gravity errors");
   eval_command->add_option("--gt-states", eval.gt_states,
                            "Ground-truth states (default: groundtruth_states.csv beside --gt)");

@@ -19,6 +19,7 @@
 #include "vifusion/config/daemon_config.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/imu_feed.hpp"
+#include "vifusion/core/time.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/state_csv.hpp"
@@ -148,6 +149,8 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   gpu_options.device = options.device;
   const auto context = gpu::GpuContext::create(gpu_options.withEnvironment());
   slam::Slam pipeline(*context, reader->calibration(), slam_options);
+  std::optional<slam::MapLoadReport> loaded;
+  if (!options.load_map.empty()) loaded = pipeline.loadMap(options.load_map);
 
   // A live source has no frame count: it runs until --frames, Ctrl-C or SIGTERM.
   const std::size_t available = reader->live() ? SIZE_MAX : reader->frameCount();
@@ -160,7 +163,8 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   FrameLog frame_log(reserved);
   int imu_issues = 0;
   int relocalisations = 0;
-  std::optional<NavState> last_state;  ///< the estimator's, for a saved map
+  std::size_t relocalising_frames = 0;  ///< a loaded map's first frames, before the camera was located in it
+  std::optional<NavState> last_state;   ///< the estimator's, for a saved map
   RgbdFrame frame;
   TrackingStateCounts states_seen;
   ClosureCounts closures;
@@ -178,7 +182,8 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
     if (result.closure.outcome == slam::ClosureOutcome::kAccepted) {
       // The map moved: so does the trajectory that built it (frame i is the i-th pose kept).
       for (std::size_t i = 0; i < trajectory.size(); ++i) {
-        trajectory[i].T_world_body = pipeline.deformPose(trajectory[i].T_world_body, static_cast<std::uint32_t>(i));
+        trajectory[i].T_world_body =
+            pipeline.deformPose(trajectory[i].T_world_body, pipeline.firstFrameIndex() + static_cast<std::uint32_t>(i));
       }
     }
     closures.add(result.closure);
@@ -195,6 +200,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
     }
     states_seen.add(result.tracking);
     relocalisations += result.relocalised ? 1 : 0;
+    relocalising_frames += result.relocalising ? 1 : 0;
     budget.add(result);
     surfels = result.surfels;
     map_overflow = result.map_overflow;
@@ -229,9 +235,12 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
     std::signal(SIGTERM, SIG_DFL);
   }
 
+  // A loaded map's first frames, before the camera was located in it, have no pose: they are left out.
+  const std::vector<eval::StampedPose> located(trajectory.begin() + static_cast<std::ptrdiff_t>(relocalising_frames),
+                                               trajectory.end());
   // Written to a temporary name and renamed: an interrupted run never leaves a truncated file.
   const std::filesystem::path trajectory_path = std::filesystem::path(options.out) / "trajectory.txt";
-  eval::writeTum(trajectory_path.string() + ".tmp", trajectory);
+  eval::writeTum(trajectory_path.string() + ".tmp", located);
   std::filesystem::rename(trajectory_path.string() + ".tmp", trajectory_path);
 
   frame_log.write(std::filesystem::path(options.out) / "frames.csv");
@@ -266,11 +275,25 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
                            {"frames_per_s", frames / wall_s},
                            {"arena_bytes", pipeline.arenaBytes()}};
   if (!camera_report.is_null()) report["camera"] = camera_report;
-  if (!reader->groundTruth().empty() && frames >= 3) {
+  if (loaded) {
+    report["loaded_map"] = {{"path", options.load_map},
+                            {"bytes", loaded->bytes},
+                            {"mode", loaded->mode},
+                            {"surfels", loaded->surfels},
+                            {"keyframes", loaded->keyframes},
+                            {"load_ms", loaded->elapsed_ms},
+                            {"relocalising_frames", relocalising_frames},
+                            {"located", relocalising_frames < trajectory.size()}};
+    if (relocalising_frames < trajectory.size()) {
+      report["loaded_map"]["located_after_s"] =
+          nsToSeconds(trajectory[relocalising_frames].t_ns - trajectory.front().t_ns);
+    }
+  }
+  if (!reader->groundTruth().empty() && located.size() >= 3) {
     std::vector<eval::StampedPose> ground_truth;
     for (const datasets::StampedPose& pose : reader->groundTruth())
       ground_truth.push_back({pose.t_ns, pose.T_world_body});
-    const eval::AteResult ate = eval::ate(ground_truth, trajectory);
+    const eval::AteResult ate = eval::ate(ground_truth, located);
     report["ate_rmse_m"] = ate.rmse_m;
   }
   // Stable surfels only (confidence ≥ the map's threshold), as ElasticFusion exports: the
@@ -282,8 +305,8 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   report["map_ply_surfels"] = map_points;
   if (!options.save_map.empty()) {
     std::vector<mapfile::StampedPose> poses;
-    poses.reserve(trajectory.size());
-    for (const eval::StampedPose& pose : trajectory) poses.push_back({pose.t_ns, pose.T_world_body});
+    poses.reserve(located.size());
+    for (const eval::StampedPose& pose : located) poses.push_back({pose.t_ns, pose.T_world_body});
     const slam::MapSaveReport saved =
         slam::saveMap(pipeline, {slam_options.mode, &reader->calibration(), poses, last_state}, options.save_map);
     report["map_file"] = {{"path", options.save_map},

@@ -29,6 +29,7 @@ struct RunOptions {
   bool loop_closure = true;    ///< local loop closure by map deformation (off: the paper's open-loop odometry)
   bool relocalisation = true;  ///< relocalise a lost camera by place recognition (slam/relocaliser.hpp)
   bool gravity_term = true;    ///< the paper's E_imu in the deformation energy (inertial modes; the ablation when off)
+  std::string load_map;        ///< non-empty: start from this saved map (slam/map_loading.hpp)
   std::string save_map;        ///< non-empty: save the map to this file at the end (slam/map_saving.hpp)
 };
 

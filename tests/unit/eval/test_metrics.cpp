@@ -47,6 +47,22 @@ TEST(Ate, RigidlyMovedCopyHasZeroErrorAndRecoversTransform) {
   EXPECT_LT((recovered_T_est_gt.translation() - T_est_gt.translation()).norm(), 1e-12);
 }
 
+TEST(AteInFrame, UsesTheGivenFrameInsteadOfAligning) {
+  // The estimate in the frame of the ground truth's first pose (a run relocalised into a map whose W is that
+  // camera): exact under that frame; a whole-trajectory offset of 3 cm, which ate() aligns away, counts.
+  const std::vector<StampedPose> gt = syntheticTrajectory();
+  const SE3d T_gt_W = gt.front().T_world_body;
+  const std::vector<StampedPose> est = transformed(T_gt_W.inverse(), gt);
+  const AteResult exact = ateInFrame(gt, est, T_gt_W);
+  EXPECT_EQ(exact.pairs, gt.size());
+  EXPECT_LT(exact.rmse_m, 1e-12);
+  const SE3d shift(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 0.03, 0.0));
+  const std::vector<StampedPose> shifted = transformed(shift, est);
+  EXPECT_NEAR(ateInFrame(gt, shifted, T_gt_W).rmse_m, 0.03, 1e-12);
+  EXPECT_NEAR(ateInFrame(gt, shifted, T_gt_W).min_m, 0.03, 1e-12);
+  EXPECT_LT(ate(gt, shifted).rmse_m, 1e-9);
+}
+
 TEST(Ate, KnownOffsetsGiveKnownStatistics) {
   // Ground truth holds each position twice (consecutive stamps); the estimate moves the first copy by
   // +d·n_k and the second by −d·n_k, n_k a random unit vector. The offsets cancel pairwise in the
@@ -131,8 +147,9 @@ TEST(Rpe, YawDriftIsMeasuredInDegrees) {
   const double rate_rad_per_s = 2.0 * std::numbers::pi / 180.0;
   for (StampedPose& pose : est) {
     const double angle_rad = rate_rad_per_s * nsToSeconds(pose.t_ns - gt.front().t_ns);
-    pose.T_world_body = SE3d(Eigen::Quaterniond(Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitZ())),
-                             Eigen::Vector3d::Zero()) * pose.T_world_body;
+    pose.T_world_body =
+        SE3d(Eigen::Quaterniond(Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitZ())), Eigen::Vector3d::Zero()) *
+        pose.T_world_body;
   }
   const RpeResult result = rpe(gt, est);
   EXPECT_NEAR(result.rot_mean_deg, 2.0 * (30.0 * 33'333'333.0 / 1e9), 1e-7);
@@ -164,7 +181,8 @@ TEST(Ate, MatchesIndependentReferenceOnTumFr1Xyz) {
 
 TEST(Rpe, RunsOnTumFr1Xyz) {
   const std::filesystem::path dir = vifusion::test::dataDir() / "tum-fr1-xyz-eval";
-  const RpeResult result = rpe(readTum(dir / "freiburg1_xyz-groundtruth.txt"), readTum(dir / "freiburg1_xyz-rgbdslam.txt"));
+  const RpeResult result =
+      rpe(readTum(dir / "freiburg1_xyz-groundtruth.txt"), readTum(dir / "freiburg1_xyz-rgbdslam.txt"));
   EXPECT_GT(result.pairs, 700u);
   // Sanity bounds only (no independent RPE reference yet): 1 s drift of a good RGB-D SLAM run.
   EXPECT_GT(result.trans_rmse_m, 0.001);

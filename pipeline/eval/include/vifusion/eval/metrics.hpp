@@ -29,8 +29,13 @@ struct AteResult {
 /// estimate positions aligned onto ground truth with alignRigid (no scale), e_i = ‖T_gt_est·p_est,i −
 /// p_gt,i‖. Orientations are not used, as in evaluate_ate.py.
 /// @throws vifusion::Error if fewer than 3 pairs associate (the alignment is then undetermined).
-AteResult ate(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
-              double max_difference_s = 0.02);
+AteResult ate(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est, double max_difference_s = 0.02);
+
+/// The same without alignment: the estimate's frame is taken to be T_gt_est in the ground truth's world, as
+/// when a run relocalised into a saved map whose W is known there (its first camera's ground-truth pose). What
+/// the errors then measure includes any offset of the whole trajectory, which ate() would align away.
+AteResult ateInFrame(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est, const SE3d& T_gt_est,
+                     double max_difference_s = 0.02);
 
 struct RpeResult {
   double trans_rmse_m = 0.0;

@@ -73,6 +73,12 @@ class Relocaliser {
     }
   }
   int keyframes() const { return database_.size(); }
+  /// Replaces the keyframes (and the ferns, drawn again from the saved seed) with a saved map's
+  /// (mapfile/map_sections.hpp), before the first frame. Allocates. @throws vifusion::Error when the saved
+  /// database was made for frames of another size
+  void replaceDatabase(loop::FernDatabase database);
+  /// Drops every keyframe (a load that failed half-way).
+  void reset() { database_.reset(); }
   /// The keyframes and their ferns (what a saved map keeps: mapfile/map_sections.hpp).
   const loop::FernDatabase& database() const { return database_; }
   /// The block-averaging factor fern_image_width chose for this frame size.

@@ -29,12 +29,14 @@
 #include "vifusion/gpu/timestamp_pool.hpp"
 #include "vifusion/map/map_buffers.hpp"
 #include "vifusion/map/map_export.hpp"
+#include "vifusion/map/map_import.hpp"
 #include "vifusion/map/map_maintenance.hpp"
 #include "vifusion/map/model_prediction.hpp"
 #include "vifusion/map/surfel_fusion.hpp"
 #include "vifusion/slam/dense_terms_options.hpp"
 #include "vifusion/slam/dense_tracker.hpp"
 #include "vifusion/slam/loop_closure.hpp"
+#include "vifusion/slam/map_loading.hpp"
 #include "vifusion/slam/reference_fill.hpp"
 #include "vifusion/slam/relocaliser.hpp"
 #include "vifusion/slam/tracking_state.hpp"
@@ -136,6 +138,10 @@ struct FrameResult {
   /// the last tracked frame).
   bool relocalised = false;
 
+  /// A loaded map's camera not located yet (map_loading.hpp): tracking is kLost, nothing is fused, T_W_C is
+  /// not a pose.
+  bool relocalising = false;
+
   /// Not fused, and the pose is no more than a guess.
   bool lost() const { return tracking == TrackingState::kLost; }
 };
@@ -156,6 +162,16 @@ class Slam {
   /// Reads the live surfels of the map (in W) into `surfels`, chunk by chunk through a small
   /// staging buffer. For the end of a run or shutdown, not the per-frame path: it allocates.
   void exportMap(std::vector<map::Surfel>& surfels) { exporter_->read(surfels); }
+
+  /// Starts from the map saved in `path` (map_loading.hpp) instead of an empty one; call before the first frame.
+  /// @throws vifusion::Error naming the file and the section when it cannot be read, or what does not fit this
+  ///         run (camera size, map capacity, no keyframes, relocalisation or loop closure off); the map is then
+  ///         empty again
+  ///         and the run may go on as a fresh one.
+  MapLoadReport loadMap(const std::string& path);
+  /// The frame clock's value at this run's first frame: 0, or after loadMap the saved clock's next frame. Frame
+  /// i of this run is frame firstFrameIndex() + i for deformPose.
+  std::uint32_t firstFrameIndex() const { return first_frame_index_; }
 
   /// Visits the live surfels chunk by chunk through the export's staging buffer (map_export.hpp), in map order,
   /// and returns their number: how a map is saved without a host copy of it. Not the per-frame path.
@@ -205,6 +221,9 @@ class Slam {
   void closeLoop(FrameResult& result);
   void startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
                       FrameResult& result);
+  /// A frame of a run that started from a loaded map and is not located yet: relocalise() against the saved
+  /// keyframes; on success the frame is tracked at the place found and the estimator starts there.
+  void locateInLoadedMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result);
 
   SlamMode mode_;
   ImuCarryOptions carry_;
@@ -221,6 +240,7 @@ class Slam {
   std::unique_ptr<map::MapMaintenance> maintenance_;
   std::unique_ptr<map::ModelPrediction> prediction_;
   std::unique_ptr<map::MapExport> exporter_;
+  std::unique_ptr<map::MapImport> importer_;
   std::unique_ptr<ReferenceFill> reference_fill_;
   std::unique_ptr<LoopClosure> loop_closure_;                ///< when LoopClosureOptions::enabled
   std::unique_ptr<Relocaliser> relocaliser_;                 ///< when RelocalisationOptions::enabled
@@ -231,6 +251,9 @@ class Slam {
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> update_;        ///< per parity: fuse, clean, predict
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> predict_only_;  ///< per parity: predict (lost frames)
   uint32_t frame_index_ = 0;
+  uint32_t first_frame_index_ = 0;        ///< firstFrameIndex()
+  bool relocalising_ = false;             ///< a loaded map's camera is not located yet
+  std::optional<NavState> loaded_state_;  ///< the loaded map's estimator state: gravity and biases to start from
   /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last
   /// tracked one (the map's view the camera is most likely to come back to).
   SE3d T_W_reference_;

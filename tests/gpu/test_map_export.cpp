@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "gpu_test_environment.hpp"
+#include "random_surfels.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/map/export_cpu.hpp"
 #include "vifusion/map/map_buffers.hpp"
@@ -40,21 +41,8 @@ map::ExportOptions exportOptions(std::uint32_t chunk_surfels) {
   return options;
 }
 
-/// `count` surfels of random 32-bit words.
-std::vector<Surfel> randomSurfels(std::size_t count, std::uint32_t seed) {
-  std::mt19937 random(seed);
-  std::vector<Surfel> surfels(count);
-  for (Surfel& s : surfels) {
-    std::uint32_t words[12];
-    for (std::uint32_t& word : words) word = random();
-    std::memcpy(static_cast<void*>(&s), words, sizeof(words));
-  }
-  return surfels;
-}
-
-bool sameBits(std::span<const Surfel> a, std::span<const Surfel> b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
-}
+using test::randomSurfels;
+using test::sameBits;
 
 /// A map with its export on one arena, plus an upload buffer that writes either surfel array.
 class ExportRig {

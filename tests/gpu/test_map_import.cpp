@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "gpu_test_environment.hpp"
+#include "random_surfels.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/map/import_cpu.hpp"
 #include "vifusion/map/map_buffers.hpp"
@@ -25,20 +26,8 @@ using map::Surfel;
 
 const PinholeCamera kCamera = PinholeCamera::create(64, 48, 50, 50, 32, 24);  ///< index map only
 
-std::vector<Surfel> randomSurfels(std::size_t count, std::uint32_t seed) {
-  std::mt19937 random(seed);
-  std::vector<Surfel> surfels(count);
-  for (Surfel& s : surfels) {
-    std::uint32_t words[12];
-    for (std::uint32_t& word : words) word = random();
-    std::memcpy(static_cast<void*>(&s), words, sizeof(words));
-  }
-  return surfels;
-}
-
-bool sameBits(std::span<const Surfel> a, std::span<const Surfel> b) {
-  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
-}
+using test::randomSurfels;
+using test::sameBits;
 
 /// A map with its import and export on one arena.
 class ImportRig {

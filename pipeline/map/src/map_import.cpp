@@ -4,6 +4,7 @@
 #include <cstring>
 #include <string>
 
+#include "chunk_copy.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/gpu/compute_kernel.hpp"
@@ -31,16 +32,9 @@ void MapImport::build(const gpu::MemoryArena& arena) {
   arena_ = &arena;
   kernels_ = std::make_unique<Kernels>();
   Kernels& k = *kernels_;
-  gpu::KernelSpec spec;
-  spec.name = "map_import";
-  spec.spirv = shaders::map_import;
-  spec.storage_buffers = 3;
-  spec.workgroup_size = {options_.workgroup_size, 1, 1};
-  spec.max_binding_sets = 2;
-  k.copy = gpu::ComputeKernel::create(context_, std::move(spec));
-
-  const uint32_t groups =
-      std::min(options_.workgroups, (chunk_surfels_ + options_.workgroup_size - 1) / options_.workgroup_size);
+  constexpr std::uint32_t kBindings = 3;  // params, staging, destination (map_import.comp)
+  k.copy = createChunkCopyKernel(context_, "map_import", shaders::map_import, kBindings, options_);
+  const uint32_t groups = chunkCopyWorkgroups(options_, chunk_surfels_);
   auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
   for (int parity = 0; parity < 2; ++parity) {
     k.sets[parity] = k.copy->bind({buffer(params_), buffer(staging_), buffer(map_.surfels(parity))});

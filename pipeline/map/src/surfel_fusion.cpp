@@ -4,9 +4,9 @@
 #include <cstring>
 #include <string>
 
+#include "grid_stride.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/shaders/spirv.hpp"
-#include "grid_stride.hpp"
 
 namespace vifusion::map {
 namespace {
@@ -27,7 +27,8 @@ std::uint32_t runPixels(const gpu::GpuContext& context) {
 }
 
 std::uint32_t runCount(const PinholeCamera& camera, std::uint32_t run_pixels) {
-  return static_cast<std::uint32_t>(camera.height) * ((static_cast<std::uint32_t>(camera.width) + run_pixels - 1) / run_pixels);
+  return static_cast<std::uint32_t>(camera.height) *
+         ((static_cast<std::uint32_t>(camera.width) + run_pixels - 1) / run_pixels);
 }
 
 struct PassPush {
@@ -133,7 +134,8 @@ void SurfelFusion::record(gpu::CommandRecorder& recorder, int parity) const {
 void SurfelFusion::recordStep(gpu::CommandRecorder& recorder, FusionStep step, int parity) const {
   const Kernels& k = *kernels_;
   const int p = parity & 1;
-  const std::uint32_t surfel_groups = surfelWorkgroups(context_, std::min(groupsFor(map_.capacity()), kMaxSurfelWorkgroups));
+  const std::uint32_t surfel_groups =
+      surfelWorkgroups(context_, std::min(groupsFor(map_.capacity()), kMaxSurfelWorkgroups));
   const std::uint32_t run_groups = groupsFor(runCount(camera_, run_pixels_));
   auto buffer = [&](gpu::BufferId id) -> const gpu::GpuBuffer& { return arena_->buffer(id); };
   switch (step) {

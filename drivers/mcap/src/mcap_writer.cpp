@@ -8,8 +8,8 @@
 #include "file_sink.hpp"
 #include "record_builder.hpp"
 #include "record_encoding.hpp"
-#include "vifusion/core/error.hpp"
 #include "vifusion/core/crc32.hpp"
+#include "vifusion/core/error.hpp"
 #include "vifusion/core/little_endian.hpp"
 #include "vifusion/mcap/mcap_format.hpp"
 

@@ -6,8 +6,8 @@
 #include <cstring>
 
 #include "mcap_test_support.hpp"
-#include "vifusion/core/time.hpp"
 #include "vifusion/core/crc32.hpp"
+#include "vifusion/core/time.hpp"
 #include "vifusion/mcap/mcap_format.hpp"
 #include "vifusion/mcap/mcap_reader.hpp"
 #include "vifusion/mcap/mcap_writer.hpp"

@@ -6,8 +6,8 @@
 #include <random>
 
 #include "mcap_test_support.hpp"
-#include "vifusion/core/time.hpp"
 #include "vifusion/core/little_endian.hpp"
+#include "vifusion/core/time.hpp"
 #include "vifusion/mcap/mcap_format.hpp"
 #include "vifusion/mcap/mcap_reader.hpp"
 #include "vifusion/test/expect_error.hpp"

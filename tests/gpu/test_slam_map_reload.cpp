@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "vifusion/core/error.hpp"
 #include "vifusion/slam/map_saving.hpp"
 #include "vifusion/slam/slam.hpp"
+#include "vifusion/test/counting_allocations.hpp"
 
 namespace vifusion {
 namespace {
@@ -95,6 +98,45 @@ TEST_F(GpuTest, ASavedMapIsReloadedRelocalisedIntoAndTrackedInItsOwnFrame) {
   EXPECT_LT(worst_m, 0.01);
   // The same surfaces again: fused into the loaded surfels, not mapped a second time.
   EXPECT_LT(surfels, saved.surfels + saved.surfels / 10);
+}
+
+std::vector<char> fileBytes(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+// The service's way (a capture on the SLAM thread, the write on another) writes the file the streaming save would
+// have written at that moment, byte for byte; and once reserved, a capture allocates nothing on the host.
+TEST_F(GpuTest, ACapturedMapIsWrittenAsTheStreamingSaveWritesIt) {
+  const RigCalibration calibration = test::panCalibration();
+  const test::Pan pan = test::renderPan(calibration.camera);
+  slam::Slam slam(context(), calibration, slam::SlamOptions{});
+  std::vector<mapfile::StampedPose> trajectory;
+  trajectory.reserve(pan.frames.size());
+  slam::MapSnapshot snapshot;
+  snapshot.reserve(slam::SlamOptions{}.map.capacity, pan.frames.size());
+  std::uint64_t capture_allocations = 0;
+  for (std::uint32_t i = 0; i < pan.frames.size(); ++i) {
+    const slam::FrameResult result = slam.process(panFrame(pan, i, i));
+    trajectory.push_back({result.t_ns, result.T_W_C});
+    const slam::MapSaveInputs inputs{slam::SlamMode::kRgbd, &calibration, trajectory, std::nullopt};
+    const std::uint64_t before = test::heapAllocationCount();
+    slam::captureMap(slam, inputs, snapshot);
+    // The first capture makes the keyframe database's copy; later ones copy into it.
+    if (i > 0) capture_allocations += test::heapAllocationCount() - before;
+  }
+  EXPECT_EQ(capture_allocations, 0u);
+  const std::string streamed = temporaryMap("pan_streamed.vifmap");
+  const std::string captured = temporaryMap("pan_captured.vifmap");
+  const slam::MapSaveReport saved =
+      slam::saveMap(slam, {slam::SlamMode::kRgbd, &calibration, trajectory, std::nullopt}, streamed);
+  const slam::MapSaveReport written = slam::writeMapFile(snapshot, captured);
+  EXPECT_EQ(written.bytes, saved.bytes);
+  EXPECT_EQ(written.surfels, saved.surfels);
+  EXPECT_EQ(written.keyframes, saved.keyframes);
+  EXPECT_GT(saved.keyframes, 0);
+  EXPECT_TRUE(fileBytes(captured) == fileBytes(streamed));
+  EXPECT_GT(snapshot.capture_ms, 0.0);
 }
 
 TEST_F(GpuTest, AMapOfAnotherCameraIsRefusedAndTheRunStartsFresh) {

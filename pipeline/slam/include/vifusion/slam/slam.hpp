@@ -172,6 +172,8 @@ class Slam {
   /// The frame clock's value at this run's first frame: 0, or after loadMap the saved clock's next frame. Frame
   /// i of this run is frame firstFrameIndex() + i for deformPose.
   std::uint32_t firstFrameIndex() const { return first_frame_index_; }
+  /// A loaded map's camera is not located yet (FrameResult::relocalising).
+  bool relocalising() const { return relocalising_; }
 
   /// Visits the live surfels chunk by chunk through the export's staging buffer (map_export.hpp), in map order,
   /// and returns their number: how a map is saved without a host copy of it. Not the per-frame path.

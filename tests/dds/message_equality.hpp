@@ -182,6 +182,16 @@ inline void expectSame(const msg::Status& a, const msg::Status& b, const std::st
   EXPECT_EQ(a.clock_skew_ppm, b.clock_skew_ppm) << path << ".clock_skew_ppm";
   EXPECT_EQ(a.sync_edge_rate_hz, b.sync_edge_rate_hz) << path << ".sync_edge_rate_hz";
   EXPECT_EQ(a.sync_edges, b.sync_edges) << path << ".sync_edges";
+  EXPECT_EQ(a.map_saves, b.map_saves) << path << ".map_saves";
+  EXPECT_EQ(a.map_save_failures, b.map_save_failures) << path << ".map_save_failures";
+  EXPECT_EQ(a.map_save_request_done, b.map_save_request_done) << path << ".map_save_request_done";
+  EXPECT_EQ(a.map_file_bytes, b.map_file_bytes) << path << ".map_file_bytes";
+  EXPECT_EQ(a.map_capture_ms, b.map_capture_ms) << path << ".map_capture_ms";
+  EXPECT_EQ(a.map_write_ms, b.map_write_ms) << path << ".map_write_ms";
+}
+
+inline void expectSame(const msg::MapSaveRequest& a, const msg::MapSaveRequest& b, const std::string& path) {
+  EXPECT_EQ(a.request_id, b.request_id) << path << ".request_id";
 }
 
 }  // namespace vifusion::dds::test

@@ -107,6 +107,13 @@ SampleMessages::SampleMessages() {
   status.clock_skew_ppm = 12.5f;
   status.sync_edge_rate_hz = 30.0f;
   status.sync_edges = 901;
+  status.map_saves = 3;
+  status.map_save_failures = 1;
+  status.map_save_request_done = 77;
+  status.map_file_bytes = 30'812'345;
+  status.map_capture_ms = 41.5f;
+  status.map_write_ms = 180.25f;
+  map_save_request.request_id = 0x0123'4567'89ab'cdefULL;
 }
 
 }  // namespace vifusion::dds::test

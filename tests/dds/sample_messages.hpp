@@ -31,6 +31,7 @@ struct SampleMessages {
   /// The rgbdi odometry: pose covariance from the variances, twist from the estimator's velocity.
   msg::Odometry inertial_odometry{};
   msg::Status status{};
+  msg::MapSaveRequest map_save_request{};
 };
 
 }  // namespace vifusion::dds::test

@@ -42,6 +42,7 @@ TEST(DdsRoundTrip, EveryTopicTypeComesBackExactly) {
   expectRoundTrip(participant, topics::kImuState, samples.imu_state_from_variances);
   expectRoundTrip(participant, topics::kOdometry, samples.inertial_odometry);
   expectRoundTrip(participant, topics::kStatus, samples.status);
+  expectRoundTrip(participant, topics::kMapSaveRequest, samples.map_save_request);
 }
 
 TEST(DdsRoundTrip, KeepsEverySampleInOrderUpToTheDepth) {

@@ -29,6 +29,7 @@ TEST(DdsTopics, TypeNamesFollowRmwCyclonedds) {
   EXPECT_EQ(typeNameOnTheWire(participant, topics::kImuState), "vifusion_msgs::msg::dds_::ImuState_");
   EXPECT_EQ(typeNameOnTheWire(participant, topics::kMap), "sensor_msgs::msg::dds_::PointCloud2_");
   EXPECT_EQ(typeNameOnTheWire(participant, topics::kStatus), "vifusion_msgs::msg::dds_::Status_");
+  EXPECT_EQ(typeNameOnTheWire(participant, topics::kMapSaveRequest), "vifusion_msgs::msg::dds_::MapSaveRequest_");
   EXPECT_EQ(typeNameOnTheWire(participant, topics::kDiagnostics), "diagnostic_msgs::msg::dds_::DiagnosticArray_");
 }
 

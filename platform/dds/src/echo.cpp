@@ -30,10 +30,11 @@ EchoTopic echoTopic(const Topic<Msg>& topic) {
           }};
 }
 
-const std::array<EchoTopic, 7> kEchoTopics = {
-    echoTopic(topics::kOdometry),    echoTopic(topics::kPose), echoTopic(topics::kTf),
-    echoTopic(topics::kImuState),    echoTopic(topics::kMap),  echoTopic(topics::kStatus),
-    echoTopic(topics::kDiagnostics),
+const std::array<EchoTopic, 8> kEchoTopics = {
+    echoTopic(topics::kOdometry),    echoTopic(topics::kPose),
+    echoTopic(topics::kTf),          echoTopic(topics::kImuState),
+    echoTopic(topics::kMap),         echoTopic(topics::kStatus),
+    echoTopic(topics::kDiagnostics), echoTopic(topics::kMapSaveRequest),
 };
 
 const EchoTopic* findTopic(std::string_view dds_name) {

@@ -268,6 +268,18 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "clock_skew_ppm", message.clock_skew_ppm);
   field(json, "sync_edge_rate_hz", message.sync_edge_rate_hz);
   field(json, "sync_edges", message.sync_edges);
+  field(json, "map_saves", message.map_saves);
+  field(json, "map_save_failures", message.map_save_failures);
+  field(json, "map_save_request_done", message.map_save_request_done);
+  field(json, "map_file_bytes", message.map_file_bytes);
+  field(json, "map_capture_ms", message.map_capture_ms);
+  field(json, "map_write_ms", message.map_write_ms);
+  json.endObject();
+}
+
+void writeJson(JsonLine& json, const msg::MapSaveRequest& message, bool) {
+  json.beginObject();
+  field(json, "request_id", message.request_id);
   json.endObject();
 }
 

@@ -14,5 +14,6 @@ void writeJson(JsonLine& json, const msg::PointCloud2& message, bool full_arrays
 void writeJson(JsonLine& json, const msg::DiagnosticArray& message, bool full_arrays);
 void writeJson(JsonLine& json, const msg::ImuState& message, bool full_arrays);
 void writeJson(JsonLine& json, const msg::Status& message, bool full_arrays);
+void writeJson(JsonLine& json, const msg::MapSaveRequest& message, bool full_arrays);
 
 }  // namespace vifusion::dds::detail

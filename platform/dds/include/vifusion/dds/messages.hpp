@@ -40,6 +40,7 @@ using DiagnosticArray = diagnostic_msgs_msg_dds__DiagnosticArray_;
 using ImuState = vifusion_msgs_msg_dds__ImuState_;
 using RingCounters = vifusion_msgs_msg_dds__RingCounters_;
 using Status = vifusion_msgs_msg_dds__Status_;
+using MapSaveRequest = vifusion_msgs_msg_dds__MapSaveRequest_;
 
 /// vifusion_msgs/Status tracking_state values.
 enum class TrackingState : std::uint8_t {
@@ -47,6 +48,7 @@ enum class TrackingState : std::uint8_t {
   Lost = vifusion_msgs_msg_Status_Constants_TRACKING_LOST,
   Initialising = vifusion_msgs_msg_Status_Constants_TRACKING_INITIALISING,
   ImuCarried = vifusion_msgs_msg_Status_Constants_TRACKING_IMU_CARRIED,
+  Relocalising = vifusion_msgs_msg_Status_Constants_TRACKING_RELOCALISING,
 };
 
 /// The idlc descriptor of a top-level message type: its DDS type name, size and serialiser ops.
@@ -80,6 +82,10 @@ struct Descriptor<ImuState> {
 template <>
 struct Descriptor<Status> {
   static const dds_topic_descriptor_t& get() { return vifusion_msgs_msg_dds__Status__desc; }
+};
+template <>
+struct Descriptor<MapSaveRequest> {
+  static const dds_topic_descriptor_t& get() { return vifusion_msgs_msg_dds__MapSaveRequest__desc; }
 };
 
 }  // namespace vifusion::dds::msg

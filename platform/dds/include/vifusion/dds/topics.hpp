@@ -38,6 +38,9 @@ inline constexpr Topic<msg::ImuState> kImuState{"rt/vifusion/imu_state", {10, Du
 /// Latched like a ROS map (REP-2003): only the last chunk is kept for late joiners.
 inline constexpr Topic<msg::PointCloud2> kMap{"rt/vifusion/map", {1, Durability::TransientLocal}};
 inline constexpr Topic<msg::Status> kStatus{"rt/vifusion/status", {10, Durability::Volatile}};
+/// Requests to save the map now (`vifusion map save`); vifusiond reads it. Depth 1: a request waiting
+/// behind a newer one is answered by the newer one's save.
+inline constexpr Topic<msg::MapSaveRequest> kMapSaveRequest{"rt/vifusion/map_save_request", {1, Durability::Volatile}};
 inline constexpr Topic<msg::DiagnosticArray> kDiagnostics{"rt/diagnostics", {10, Durability::Volatile}};
 }  // namespace topics
 

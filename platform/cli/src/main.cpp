@@ -223,6 +223,14 @@ int main(int argc, char** argv) {
       "Check a map file (every section's checksum, sizes and values) and print what it holds as JSON; exit 2 "
       "naming the damaged section");
   map_info_command->add_option("file", map_file, "The map file")->required();
+  vifusion::cli::MapSaveCommandOptions map_save;
+  CLI::App* map_save_command = map_command->add_subcommand(
+      "save",
+      "Ask the running vifusiond to save its map file now (over DDS: rt/vifusion/map_save_request, answered in "
+      "rt/vifusion/status); exit 0 once saved");
+  map_save_command->add_option("--timeout", map_save.timeout_s, "Wait at most this many seconds")
+      ->capture_default_str();
+  add_dds_options(map_save_command, map_save.dds);
 
   CLI11_PARSE(app, argc, argv);
   try {
@@ -234,6 +242,7 @@ int main(int argc, char** argv) {
     if (status_command->parsed()) return vifusion::cli::runStatus(status);
     if (record_command->parsed()) return vifusion::cli::runRecord(record);
     if (map_info_command->parsed()) return vifusion::cli::runMapInfo(map_file);
+    if (map_save_command->parsed()) return vifusion::cli::runMapSave(map_save);
     if (synccheck_command->parsed()) {
       sync.edges = polarity;
       sync.check.edge_polarity = *vifusion::synccheck::parseEdgePolarity(polarity);

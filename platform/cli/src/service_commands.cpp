@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "vifusion/config/yaml_loader.hpp"
 #include "vifusion/core/time.hpp"
 #include "vifusion/dds/echo.hpp"
 #include "vifusion/dds/reader.hpp"
+#include "vifusion/dds/writer.hpp"
 
 namespace vifusion::cli {
 namespace {
@@ -53,6 +56,8 @@ const char* trackingName(std::uint8_t state) {
       return "initialising";
     case dds::msg::TrackingState::ImuCarried:
       return "IMU-carried";
+    case dds::msg::TrackingState::Relocalising:
+      return "relocalising into the loaded map";
   }
   return "?";
 }
@@ -152,6 +157,76 @@ int runStatus(const StatusCommandOptions& options) {
     std::printf("health: no rt/diagnostics received (is vifusion-health running?)\n");
   }
   return have_status && have_diagnostics && all_ok ? 0 : 1;
+}
+
+int runMapSave(const MapSaveCommandOptions& options) {
+  std::unique_ptr<dds::Participant> participant;
+  try {
+    participant = std::make_unique<dds::Participant>(participantOptions(options.dds));
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "vifusion map save: %s\n", error.what());
+    return 2;
+  }
+  dds::Reader<dds::msg::Status> status_reader(*participant, dds::topics::kStatus);
+  dds::Writer<dds::msg::MapSaveRequest> request_writer(*participant, dds::topics::kMapSaveRequest);
+  const std::int64_t deadline_ns = monotonicNowNs() + secondsToNs(options.timeout_s);
+  constexpr std::int64_t kPollNs = 50 * kNsPerMillisecond;
+
+  // The service's request reader must have matched, or the request (volatile) reaches nobody; and its last
+  // counts before the request tell afterwards whether this save succeeded.
+  bool have_status = false;
+  dds::msg::Status before{};
+  while ((!have_status || request_writer.matchedReaders() == 0) && monotonicNowNs() < deadline_ns) {
+    status_reader.waitForData(kPollNs);
+    status_reader.take([&](const dds::msg::Status& s) {
+      before = s;
+      have_status = true;
+    });
+  }
+  if (!have_status || request_writer.matchedReaders() == 0) {
+    std::printf("vifusion map save: no vifusiond found within %.0f s (not running, or another DDS domain/partition?)\n",
+                options.timeout_s);
+    return 1;
+  }
+  // Ids grow across requesters and runs: the wall clock in ns (the service keeps the largest it has seen).
+  timespec now{};
+  clock_gettime(CLOCK_REALTIME, &now);
+  const std::uint64_t request_id =
+      static_cast<std::uint64_t>(now.tv_sec) * 1'000'000'000ULL + static_cast<std::uint64_t>(now.tv_nsec);
+  request_writer.write(dds::msg::MapSaveRequest{request_id});
+
+  while (monotonicNowNs() < deadline_ns) {
+    status_reader.waitForData(kPollNs);
+    bool answered = false;
+    dds::msg::Status after{};
+    status_reader.take([&](const dds::msg::Status& s) {
+      if (s.map_save_request_done >= request_id && !answered) {
+        after = s;
+        answered = true;
+      }
+    });
+    if (!answered) continue;
+    if (after.map_saves > before.map_saves) {
+      std::printf(
+          "vifusion map save: saved, %llu bytes (SLAM thread held %.0f ms for the readback, written in %.0f "
+          "ms)\n",
+          static_cast<unsigned long long>(after.map_file_bytes), static_cast<double>(after.map_capture_ms),
+          static_cast<double>(after.map_write_ms));
+      return 0;
+    }
+    if (after.map_save_failures > before.map_save_failures) {
+      std::printf("vifusion map save: the save failed and the map file is unchanged (vifusiond's log says why)\n");
+    } else if (after.tracking_state == static_cast<std::uint8_t>(dds::msg::TrackingState::Relocalising)) {
+      std::printf(
+          "vifusion map save: not saved: vifusiond is still relocalising into the map it loaded, which is "
+          "the file as it is\n");
+    } else {
+      std::printf("vifusion map save: not saved: vifusiond has no map_file configured\n");
+    }
+    return 1;
+  }
+  std::printf("vifusion map save: no answer from vifusiond within %.0f s\n", options.timeout_s);
+  return 1;
 }
 
 }  // namespace vifusion::cli

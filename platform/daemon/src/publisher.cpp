@@ -53,6 +53,11 @@ void Publisher::run() {
 }
 
 void Publisher::publishPose(const PoseResult& result) {
+  relocalising_ = result.relocalising;
+  if (result.relocalising) {  // no pose in the loaded map yet: only the status tells
+    relocalising_surfels_ = result.surfels;
+    return;
+  }
   const char* world = config_.dds.world_frame.c_str();
   const char* odom = config_.dds.odom_frame.c_str();
   const char* camera = config_.dds.camera_frame.c_str();
@@ -129,7 +134,9 @@ void Publisher::publishStatus(std::int64_t now_ns) {
       counters(state_.imu_ring_fill.load(), state_.imu_ring_capacity.load(), state_.imu_ring_overruns.load());
   status.output_ring = counters(state_.results.size(), state_.results.capacity(), state_.results.overruns());
   auto tracking = dds::msg::TrackingState::Initialising;
-  if (have_last_) {
+  if (relocalising_) {
+    tracking = dds::msg::TrackingState::Relocalising;
+  } else if (have_last_) {
     switch (last_.tracking) {
       case slam::TrackingState::kTracked:
         tracking = dds::msg::TrackingState::Ok;
@@ -143,7 +150,7 @@ void Publisher::publishStatus(std::int64_t now_ns) {
     }
   }
   status.tracking_state = static_cast<std::uint8_t>(tracking);
-  status.surfel_count = last_.surfels;
+  status.surfel_count = relocalising_ ? relocalising_surfels_ : last_.surfels;
   status.frames_processed = frames;
   status.frames_skipped = state_.frames_skipped.load();
   status.lost_frames = state_.lost_frames.load();
@@ -159,6 +166,12 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.clock_skew_ppm = static_cast<float>(state_.clock_skew_ppm.load());
   status.sync_edge_rate_hz = static_cast<float>(state_.sync_edge_rate_hz.load());
   status.sync_edges = state_.sync_edges.load();
+  status.map_saves = state_.map_saves.load();
+  status.map_save_failures = state_.map_save_failures.load();
+  status.map_save_request_done = state_.map_save_request_done.load();
+  status.map_file_bytes = state_.map_file_bytes.load();
+  status.map_capture_ms = static_cast<float>(state_.map_capture_ms.load());
+  status.map_write_ms = static_cast<float>(state_.map_write_ms.load());
   status_.write(status);
 }
 

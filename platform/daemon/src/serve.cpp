@@ -1,7 +1,9 @@
 #include "vifusion/daemon/serve.hpp"
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <thread>
 
@@ -10,10 +12,12 @@
 #include "vifusion/core/time.hpp"
 #include "vifusion/daemon/frame_reader.hpp"
 #include "vifusion/daemon/frame_source.hpp"
+#include "vifusion/daemon/map_saver.hpp"
 #include "vifusion/daemon/publisher.hpp"
 #include "vifusion/daemon/recording_session.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
 #include "vifusion/daemon/sync_line_source.hpp"
+#include "vifusion/dds/reader.hpp"
 #include "vifusion/service/log.hpp"
 #include "vifusion/service/signal_fd.hpp"
 #include "vifusion/service/systemd_notifier.hpp"
@@ -31,7 +35,67 @@ constexpr std::uint64_t kStartupStepUsec = 60'000'000;
 
 const char* trackingText(const SharedState& state, bool ready) {
   if (!ready) return "initialising";
+  if (state.relocalising.load()) return "relocalising into the loaded map";
   return state.lost_frames.load() > 0 ? "tracking (with lost frames)" : "tracking";
+}
+
+/// Loads config.map_file into `pipeline` (relocalising from the first frame). @returns false when the service
+/// must not start: the file is missing or refused and map_file_required is true.
+bool loadMapFile(const config::DaemonConfig& config, slam::Slam& pipeline) {
+  std::string problem;
+  std::error_code error;
+  if (!std::filesystem::exists(config.map_file, error)) {
+    problem = "no such file";
+  } else {
+    try {
+      const slam::MapLoadReport loaded = pipeline.loadMap(config.map_file);
+      logLine(LogLevel::Info,
+              "map file %s loaded: %u surfels, %d keyframes, %s mode, %llu bytes in %.0f ms; relocalising (no pose "
+              "published until the camera is located in it)",
+              config.map_file.c_str(), loaded.surfels, loaded.keyframes, loaded.mode.c_str(),
+              static_cast<unsigned long long>(loaded.bytes), loaded.elapsed_ms);
+      return true;
+    } catch (const std::exception& refused) {
+      problem = refused.what();
+    }
+  }
+  if (config.map_file_required) {
+    logLine(LogLevel::Error,
+            "map_file %s cannot be loaded: %s (map_file_required is true; set it false to start with an empty map)",
+            config.map_file.c_str(), problem.c_str());
+    return false;
+  }
+  if (problem != "no such file") {
+    // The saves of this run would replace it: keep what was saved.
+    const std::string kept = config.map_file + ".refused";
+    std::filesystem::rename(config.map_file, kept, error);
+    logLine(LogLevel::Warning, "map_file %s refused: %s; %s", config.map_file.c_str(), problem.c_str(),
+            error ? ("it could not be moved aside (" + error.message() + ")").c_str() : ("kept as " + kept).c_str());
+  }
+  logLine(LogLevel::Warning, "map_file %s: starting with an empty map (map_file_required is false); it is saved there",
+          config.map_file.c_str());
+  return true;
+}
+
+/// Takes the rt/vifusion/map_save_request samples that arrived: the newest id goes to the SLAM thread, which
+/// answers it in the status (map_save_request_done) once the save ends. Without a map file it is answered now.
+void takeMapSaveRequests(dds::Reader<dds::msg::MapSaveRequest>& requests, const config::DaemonConfig& config,
+                         SharedState& state) {
+  requests.take([&](const dds::msg::MapSaveRequest& request) {
+    if (request.request_id == 0) {
+      logLine(LogLevel::Warning, "map save request with id 0 ignored: ids start at 1");
+      return;
+    }
+    if (config.map_file.empty()) {
+      logLine(LogLevel::Warning, "map save request %llu: not saved, no map_file is configured",
+              static_cast<unsigned long long>(request.request_id));
+      state.map_save_request_done = request.request_id;
+      return;
+    }
+    logLine(LogLevel::Info, "map save request %llu: saving to %s after the current frame",
+            static_cast<unsigned long long>(request.request_id), config.map_file.c_str());
+    state.map_save_requested = std::max(state.map_save_requested.load(), request.request_id);
+  });
 }
 
 }  // namespace
@@ -106,6 +170,10 @@ int serve(const config::DaemonConfig& config) {
     return config::kExitGpu;
   }
   logLine(LogLevel::Info, "GPU: %s", context->features().device_name.c_str());
+  if (!config.map_file.empty()) {
+    notifier.status("loading the map file");
+    if (!loadMapFile(config, *pipeline)) return config::kExitMap;
+  }
 
   // Every camera ring slot sized for the calibration's images now: the reader never allocates.
   const PinholeCamera& camera = source->calibration().camera;
@@ -117,11 +185,14 @@ int serve(const config::DaemonConfig& config) {
 
   std::unique_ptr<dds::Participant> participant;
   std::unique_ptr<Publisher> publisher;
+  std::unique_ptr<dds::Reader<dds::msg::MapSaveRequest>> map_save_requests;
   try {
     participant = std::make_unique<dds::Participant>(
         dds::ParticipantOptions{config.dds.domain, config.dds.config, config.dds.partition});
     publisher = std::make_unique<Publisher>(*participant, config, slam_options.map.confidence_threshold,
                                             source->calibration().T_S_C, state);
+    map_save_requests =
+        std::make_unique<dds::Reader<dds::msg::MapSaveRequest>>(*participant, dds::topics::kMapSaveRequest);
   } catch (const std::exception& error) {
     logLine(LogLevel::Error, "DDS: %s", error.what());
     return config::kExitDds;
@@ -145,6 +216,15 @@ int serve(const config::DaemonConfig& config) {
   worker_options.imu = inertial ? imu_feed : nullptr;
   worker_options.recorder = inertial ? recorder.get() : nullptr;
   worker_options.take_newest = config.realtime;
+  std::unique_ptr<MapSaver> map_saver;
+  if (!config.map_file.empty()) {
+    map_saver =
+        std::make_unique<MapSaver>(config.map_file, slam_options.map.capacity, worker_options.expected_frames, state);
+  }
+  worker_options.map_saver = map_saver.get();
+  worker_options.map_save_period_ns = secondsToNs(config.map_save_period_s);
+  worker_options.mode = slam_options.mode;
+  worker_options.calibration = &source->calibration();
   SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
 
   notifier.status("waiting for the first frame");
@@ -165,8 +245,8 @@ int serve(const config::DaemonConfig& config) {
   while (!state.slam_done) {
     const int signal = signals.wait(100);
     if (signal == SIGTERM || signal == SIGINT) {
-      logLine(LogLevel::Info, "%s: finishing the current frame, writing trajectory.txt and map.ply",
-              signal == SIGTERM ? "SIGTERM" : "SIGINT");
+      logLine(LogLevel::Info, "%s: finishing the current frame, writing trajectory.txt and map.ply%s",
+              signal == SIGTERM ? "SIGTERM" : "SIGINT", config.map_file.empty() ? "" : " and saving the map file");
       state.stop = true;
     } else if (signal == SIGHUP) {
       service::reopenLog();
@@ -178,6 +258,7 @@ int serve(const config::DaemonConfig& config) {
       if (opened.request_stop) opened.request_stop();  // a live source may be waiting for its camera
     }
     const std::int64_t now_ns = monotonicNowNs();
+    takeMapSaveRequests(*map_save_requests, config, state);
     if (sync_line) reportSyncLine(*sync_line, state, recorder.get());
     if (recorder) reportRecording(*recorder, recording_failure_reported);
     if (opened.report) {

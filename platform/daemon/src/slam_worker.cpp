@@ -30,6 +30,9 @@ void SlamWorker::recordImu(std::span<const ImuSample> imu, std::int64_t t_ns) {
 void SlamWorker::run() {
   FrameSlot slot;
   std::int64_t next_map_ns = monotonicNowNs() + options_.map_period_ns;
+  next_save_ns_ = monotonicNowNs() + options_.map_save_period_ns;
+  located_ = !pipeline_.relocalising();
+  state_.relocalising = !located_;
   try {
     while (!state_.stop) {
       if (!state_.frames.tryPop(slot)) {
@@ -44,10 +47,11 @@ void SlamWorker::run() {
       if (options_.recorder != nullptr) recordImu(imu, slot.frame.t_ns);
       const slam::FrameResult result = pipeline_.process(slot.frame, imu);
       if (result.closure.outcome == slam::ClosureOutcome::kAccepted) {
-        // The map moved: so does the trajectory that built it (frame i is the i-th pose kept).
+        // The map moved: so does the trajectory that built it (the i-th pose kept is the frame clock's
+        // firstFrameIndex() + relocalising frames + i).
+        const std::uint32_t first = pipeline_.firstFrameIndex() + relocalising_frames_;
         for (std::size_t i = 0; i < trajectory_.size(); ++i) {
-          trajectory_[i].T_world_body =
-              pipeline_.deformPose(trajectory_[i].T_world_body, static_cast<std::uint32_t>(i));
+          trajectory_[i].T_W_C = pipeline_.deformPose(trajectory_[i].T_W_C, first + static_cast<std::uint32_t>(i));
         }
         ++state_.closures_accepted;
       } else if (result.closure.outcome == slam::ClosureOutcome::kRefused) {
@@ -55,10 +59,20 @@ void SlamWorker::run() {
       } else if (result.closure.outcome == slam::ClosureOutcome::kAgreed) {
         ++state_.closures_agreed;
       }
-      if (result.relocalised) ++state_.relocalisations;
-      trajectory_.push_back({result.t_ns, result.T_W_C});
+      if (result.relocalising) {
+        ++relocalising_frames_;
+      } else {
+        if (!located_) {
+          located_ = true;
+          state_.relocalising = false;
+          service::logLine(service::LogLevel::Info, "located in the loaded map after %u frames: W is its frame",
+                           relocalising_frames_);
+        }
+        if (result.relocalised) ++state_.relocalisations;
+        trajectory_.push_back({result.t_ns, result.T_W_C});
+        if (result.lost()) ++state_.lost_frames;
+      }
       const std::uint64_t processed = state_.frames_processed.load() + 1;
-      if (result.lost()) ++state_.lost_frames;
       if (result.tracking == slam::TrackingState::kImuCarried) ++state_.imu_carried_frames;
       if (result.imu_issue) reportImuIssue(slot.frame.index, *result.imu_issue);
       PoseResult output;
@@ -69,12 +83,14 @@ void SlamWorker::run() {
       output.T_W_C = result.T_W_C;
       output.T_W_O = result.T_W_O;
       output.tracking = result.tracking;
+      output.relocalising = result.relocalising;
       output.inertial = result.inertial;
       output.imu_issue = result.imu_issue.has_value();
       output.surfels = result.surfels;
       output.frame_number = processed;
       if (result.inertial) {
         states_.push_back({result.t_ns, result.state, result.state_variance});
+        last_state_ = result.state;
         output.state = result.state;
         output.state_variance = result.state_variance;
       }
@@ -88,6 +104,7 @@ void SlamWorker::run() {
         state_.map.offer(snapshot_, result.t_ns);
         next_map_ns = monotonicNowNs() + options_.map_period_ns;
       }
+      offerMapSave(monotonicNowNs());
       if (options_.max_frames > 0 && processed >= options_.max_frames) break;
     }
   } catch (const std::exception& error) {
@@ -96,6 +113,55 @@ void SlamWorker::run() {
   }
   writeOutputs();
   state_.slam_done = true;
+}
+
+void SlamWorker::offerMapSave(std::int64_t now_ns) {
+  MapSaver* saver = options_.map_saver;
+  if (saver == nullptr) return;
+  const std::uint64_t requested = state_.map_save_requested.load();
+  const bool requested_now = requested > answered_request_;
+  const bool due = options_.map_save_period_ns > 0 && now_ns >= next_save_ns_;
+  if ((!requested_now && !due) || !saver->idle()) return;  // a write in progress: after a later frame
+  if (!located_) {
+    // Nothing fused yet: the file already is the map. A request is answered (the requester sees no save).
+    if (requested_now) {
+      service::logLine(service::LogLevel::Info,
+                       "map save request %llu: not saved, still relocalising (the file at %s is the map)",
+                       static_cast<unsigned long long>(requested), saver->path().c_str());
+      state_.map_save_request_done = requested;
+    }
+  } else {
+    captureMap();
+    saver->write(requested_now ? requested : 0);
+  }
+  answered_request_ = requested;
+  next_save_ns_ = now_ns + options_.map_save_period_ns;
+}
+
+void SlamWorker::captureMap() {
+  const slam::MapSaveInputs inputs{options_.mode, options_.calibration, trajectory_, last_state_};
+  slam::captureMap(pipeline_, inputs, options_.map_saver->snapshot());
+}
+
+bool SlamWorker::saveMapOnStop() {
+  MapSaver* saver = options_.map_saver;
+  if (!located_) {
+    service::logLine(service::LogLevel::Info, "map file %s left as loaded: the camera was never located in it",
+                     saver->path().c_str());
+    return true;
+  }
+  saver->waitIdle();
+  const std::uint64_t requested = state_.map_save_requested.load();
+  try {
+    captureMap();
+  } catch (const std::exception& error) {
+    service::logLine(service::LogLevel::Error, "map not saved on stop (the file at %s is unchanged): %s",
+                     saver->path().c_str(), error.what());
+    return false;
+  }
+  saver->write(requested > answered_request_ ? requested : 0);
+  answered_request_ = requested;
+  return saver->waitIdle();
 }
 
 void SlamWorker::reportImuIssue(std::int64_t frame_index, const imu::ImuSampleIssue& issue) {
@@ -115,7 +181,10 @@ void SlamWorker::writeOutputs() {
     std::filesystem::create_directories(options_.out_dir);
     const std::filesystem::path trajectory_path = options_.out_dir / "trajectory.txt";
     const std::filesystem::path temporary = options_.out_dir / "trajectory.txt.tmp";
-    eval::writeTum(temporary, trajectory_);
+    std::vector<eval::StampedPose> poses;
+    poses.reserve(trajectory_.size());
+    for (const mapfile::StampedPose& pose : trajectory_) poses.push_back({pose.t_ns, pose.T_W_C});
+    eval::writeTum(temporary, poses);
     std::filesystem::rename(temporary, trajectory_path);
     if (options_.imu != nullptr) {
       const std::filesystem::path states_path = options_.out_dir / "states.csv";
@@ -134,6 +203,7 @@ void SlamWorker::writeOutputs() {
     service::logLine(service::LogLevel::Error, "cannot write the outputs: %s", error.what());
     state_.fail(config::kExitOutput);
   }
+  if (options_.map_saver != nullptr && !saveMapOnStop()) state_.fail(config::kExitOutput);
 }
 
 }  // namespace vifusion::daemon

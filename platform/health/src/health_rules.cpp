@@ -45,6 +45,7 @@ void HealthRules::onStatus(const dds::msg::Status& status, std::int64_t now_ns) 
   };
   since(dds::msg::TrackingState::Lost, lost_since_ns_);
   since(dds::msg::TrackingState::ImuCarried, carried_since_ns_);
+  since(dds::msg::TrackingState::Relocalising, relocalising_since_ns_);
   last_ = status;
   received_ns_ = now_ns;
   have_status_ = true;
@@ -108,6 +109,12 @@ void HealthRules::judge(std::int64_t now_ns, std::array<RuleResult, kRuleCount>&
     const double carried_s = nsToSeconds(now_ns - carried_since_ns_);
     value(tracking, "imu_carried_for_s", "%.2f", carried_s);
     set(tracking, Level::Warn, "IMU-carried for %.1f s: no visual constraint, pose covariance growing", carried_s);
+  } else if (relocalising_since_ns_ >= 0) {
+    // A loaded map, the camera not located in it yet: no pose is published. Not an error by itself (the robot may
+    // start where the map has no keyframe); the rate rule still catches a stalled pipeline.
+    const double relocalising_s = nsToSeconds(now_ns - relocalising_since_ns_);
+    value(tracking, "relocalising_for_s", "%.2f", relocalising_s);
+    set(tracking, Level::Warn, "relocalising into the loaded map for %.1f s: no pose published yet", relocalising_s);
   } else {
     set(tracking, Level::Ok, "tracking");
   }

@@ -16,7 +16,7 @@ enum class Level : std::uint8_t { Ok = 0, Warn = 1, Error = 2, Stale = 3 };
 struct RuleResult {
   static constexpr int kMaxValues = 3;
   Level level = Level::Ok;
-  const char* name = "";            ///< "vifusion: heartbeat", static text
+  const char* name = "";  ///< "vifusion: heartbeat", static text
   char message[128] = {};
   const char* keys[kMaxValues] = {};
   char values[kMaxValues][32] = {};
@@ -42,11 +42,12 @@ class HealthRules {
   bool have_status_ = false;
   dds::msg::Status last_{};
   std::int64_t received_ns_ = 0;
-  std::int64_t lost_since_ns_ = -1;        ///< host time tracking was first seen lost; −1: not lost
-  std::int64_t carried_since_ns_ = -1;     ///< host time the IMU was first seen carrying the pose; −1: not
-  std::uint64_t overruns_ = 0;             ///< camera + output ring overruns in the last status
-  std::int64_t overrun_increase_ns_ = -1;  ///< host time they last increased; −1: never
-  std::uint64_t imu_issues_ = 0;           ///< frames with refused IMU samples in the last status
+  std::int64_t lost_since_ns_ = -1;          ///< host time tracking was first seen lost; −1: not lost
+  std::int64_t carried_since_ns_ = -1;       ///< host time the IMU was first seen carrying the pose; −1: not
+  std::int64_t relocalising_since_ns_ = -1;  ///< host time relocalising was first seen; −1: not relocalising
+  std::uint64_t overruns_ = 0;               ///< camera + output ring overruns in the last status
+  std::int64_t overrun_increase_ns_ = -1;    ///< host time they last increased; −1: never
+  std::uint64_t imu_issues_ = 0;             ///< frames with refused IMU samples in the last status
   std::int64_t imu_issue_increase_ns_ = -1;  ///< host time they last increased; −1: never
 };
 

@@ -22,8 +22,6 @@
 namespace vifusion::health {
 namespace {
 
-constexpr int kExitLed = 7;
-
 using service::LogLevel;
 using service::logLine;
 
@@ -40,7 +38,7 @@ int serve(const config::DaemonConfig& config) {
     led = std::make_unique<StatusLed>(config.health);
   } catch (const std::exception& error) {
     logLine(LogLevel::Error, "status LED: %s", error.what());
-    return kExitLed;
+    return config::kExitLed;
   }
   std::unique_ptr<dds::Participant> participant;
   std::unique_ptr<dds::Reader<dds::msg::Status>> status_reader;
@@ -49,7 +47,8 @@ int serve(const config::DaemonConfig& config) {
     participant = std::make_unique<dds::Participant>(
         dds::ParticipantOptions{config.dds.domain, config.dds.config, config.dds.partition});
     status_reader = std::make_unique<dds::Reader<dds::msg::Status>>(*participant, dds::topics::kStatus);
-    diagnostics_writer = std::make_unique<dds::Writer<dds::msg::DiagnosticArray>>(*participant, dds::topics::kDiagnostics);
+    diagnostics_writer =
+        std::make_unique<dds::Writer<dds::msg::DiagnosticArray>>(*participant, dds::topics::kDiagnostics);
   } catch (const std::exception& error) {
     logLine(LogLevel::Error, "DDS: %s", error.what());
     return config::kExitDds;

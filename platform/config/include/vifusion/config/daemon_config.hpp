@@ -16,7 +16,9 @@ inline constexpr int kExitConfig = 2;  ///< bad configuration or command line
 inline constexpr int kExitSource = 3;  ///< the source cannot be opened or read, or lacks the IMU data the mode needs
 inline constexpr int kExitGpu = 4;     ///< no usable Vulkan device, or the pipeline cannot be built
 inline constexpr int kExitDds = 5;     ///< the DDS participant, writers or readers cannot be created
-inline constexpr int kExitOutput = 6;  ///< trajectory.txt or map.ply cannot be written
+inline constexpr int kExitOutput = 6;  ///< trajectory.txt, map.ply or the map file cannot be written
+inline constexpr int kExitLed = 7;     ///< vifusion-health: the status LED's GPIO line is unavailable
+inline constexpr int kExitMap = 8;     ///< vifusiond: map_file cannot be loaded and map_file_required is true
 
 /// A configuration problem; the message names the key and, for a file, "file:line:".
 class ConfigError : public Error {
@@ -67,7 +69,18 @@ struct DaemonConfig {
   std::int64_t map_capacity = 2'000'000;
   double map_publish_period_s = 5.0;  ///< rt/vifusion/map every this many seconds; 0: never
   double status_period_s = 0.2;       ///< rt/vifusion/status every this many seconds (≥ 1 Hz)
-  std::string log_file;               ///< log file, reopened on SIGHUP; "" = stderr (the journal)
+  /// The robot's map across runs (slam/map_saving.hpp, README "Saving and loading a map"): loaded at start (the
+  /// service relocalises into it; W is its frame) and saved to the same path on stop, every map_save_period_s
+  /// and on request (rt/vifusion/map_save_request). "" = no map file: every start begins an empty map.
+  std::string map_file;
+  /// true: a map_file that is missing or refused (damaged, another camera, …) stops the start (exit code
+  /// kExitMap) — a robot must not silently begin a new world frame. false: the service starts with an empty map;
+  /// a refused file is first renamed to "<map_file>.refused" so that nothing saved is lost.
+  bool map_file_required = true;
+  /// Save the map file every this many seconds while running [s]; 0: only on stop and on request. Each save
+  /// holds the SLAM thread for the map's readback only; the write happens on its own thread.
+  double map_save_period_s = 300.0;
+  std::string log_file;  ///< log file, reopened on SIGHUP; "" = stderr (the journal)
   /// Record the source while mapping (drivers/recording: MCAP of ROS 2 messages) into record_dir.
   bool record = false;
   std::string record_dir;  ///< where recordings go ("" = <out>/recordings), one file per start

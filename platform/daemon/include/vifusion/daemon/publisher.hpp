@@ -26,6 +26,9 @@
 //    twist is as in rgbd mode.
 // rt/vifusion/imu_state (dds::makeImuStateFromVariances) goes out for every frame with an estimator
 // state, stamped like the odometry.
+//
+// A loaded map's relocalising frames (PoseResult::relocalising) publish nothing but the status
+// (TRACKING_RELOCALISING): until a frame is located in the saved map there is no pose in its W to give.
 
 #include <array>
 #include <cstdint>
@@ -72,7 +75,9 @@ class Publisher {
   PoseResult last_{};
   SE3d last_T_O_C_;  ///< the odometry pose of last_
   bool have_last_ = false;
-  LatencyWindow latency_;  ///< sensor time → pose published, the last frames [ms]
+  bool relocalising_ = false;               ///< the newest result was a loaded map's relocalising frame
+  std::uint32_t relocalising_surfels_ = 0;  ///< the loaded map's surfels, while relocalising
+  LatencyWindow latency_;                   ///< sensor time → pose published, the last frames [ms]
   /// (host time [ns], frames processed) at the last status messages, for a ~1 s frame-rate window.
   static constexpr std::size_t kRateWindow = 32;
   std::array<std::pair<std::int64_t, std::uint64_t>, kRateWindow> rate_samples_{};

@@ -36,6 +36,8 @@ struct PoseResult {
   SE3d T_W_C;                  ///< camera pose in the map world
   SE3d T_W_O;                  ///< map → odom (slam::FrameResult::T_W_O): moves only at a loop closure
   slam::TrackingState tracking = slam::TrackingState::kTracked;  ///< slam::FrameResult::tracking
+  /// A loaded map's camera not located yet (slam::FrameResult::relocalising): no pose, only the status says so.
+  bool relocalising = false;
   /// Inertial modes: `state` and `state_variance` hold the estimator's state at this frame
   /// (slam::FrameResult::inertial); false in rgbd mode and while the estimator waits to start.
   bool inertial = false;
@@ -109,6 +111,15 @@ struct SharedState {
   std::atomic<std::uint64_t> kernel_timestamp_frames{0};  ///< frames stamped by the kernel, not the IMU's event
   std::atomic<double> sync_edge_rate_hz{0.0};             ///< the sync line's edge rate [Hz] (0 without one)
   std::atomic<std::uint64_t> sync_edges{0};               ///< its edges so far
+  // The map file (config map_file; map_saver.hpp).
+  std::atomic<bool> relocalising{false};                ///< a loaded map's camera is not located yet
+  std::atomic<std::uint64_t> map_save_requested{0};     ///< newest rt/vifusion/map_save_request's id (main thread)
+  std::atomic<std::uint64_t> map_save_request_done{0};  ///< id of the last request whose save ended
+  std::atomic<std::uint64_t> map_saves{0};              ///< map files written
+  std::atomic<std::uint64_t> map_save_failures{0};      ///< saves that failed (the file unchanged)
+  std::atomic<std::uint64_t> map_file_bytes{0};         ///< the last map file's size [bytes]
+  std::atomic<double> map_capture_ms{0.0};              ///< the last save's hold on the SLAM thread [ms]
+  std::atomic<double> map_write_ms{0.0};                ///< the last save's write on the saver thread [ms]
   std::atomic<int> exit_code{0};
 
   void fail(int code) {

@@ -5,6 +5,11 @@
 // trajectory.txt and map.ply atomically (temporary file + rename), and in the inertial modes
 // states.csv too (the estimator's state and marginal variances per frame, `vifusion eval --states`).
 //
+// With a map file (config map_file, map_saver.hpp) it also captures the map for the saver every
+// map_save_period_s, when a save was requested (SharedState::map_save_requested) and on stop. A loaded map's
+// first frames, before the camera is located in it, are relocalising: they have no pose, are neither kept nor
+// counted lost, and nothing is saved until a frame is located (until then the file is the map).
+//
 // Inertial modes: each frame gets its IMU samples from an ImuFeed (imu_feed.hpp). A frame whose samples
 // the pipeline refuses (gap, disorder, not covered, …) is tracked RGB-D only; it is counted in
 // SharedState::imu_issue_frames (published in the status message) and logged at most once per
@@ -12,13 +17,16 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "vifusion/core/imu_feed.hpp"
+#include "vifusion/daemon/map_saver.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/eval/state_csv.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
+#include "vifusion/mapfile/map_sections.hpp"
 #include "vifusion/recording/recorder.hpp"
 #include "vifusion/slam/slam.hpp"
 
@@ -39,6 +47,11 @@ struct SlamWorkerOptions {
   /// latency: first in first out, a pipeline behind the camera answered four frames late). false (realtime: false, a
   /// replay as fast as possible or a camera whose driver drops instead): every frame, in order.
   bool take_newest = false;
+  /// The map file's writer (borrowed; must outlive run()). nullptr: no map file.
+  MapSaver* map_saver = nullptr;
+  std::int64_t map_save_period_ns = 0;          ///< periodic save [ns]; 0: on stop and on request only
+  slam::SlamMode mode = slam::SlamMode::kRgbd;  ///< the pipeline's, for the map file
+  const RigCalibration* calibration = nullptr;  ///< the pipeline's rig (borrowed), for the map file
 };
 
 /// Trajectory capacity reserved for a live source, which cannot say how many frames will come: one hour at
@@ -65,11 +78,24 @@ class SlamWorker {
   /// frame at `t_ns` (later ones come with the next frame).
   void recordImu(std::span<const ImuSample> imu, std::int64_t t_ns);
 
+  /// Captures the map for the saver when a save is due or requested and the saver is idle.
+  void offerMapSave(std::int64_t now_ns);
+  /// Fills the saver's snapshot from the pipeline (the SLAM thread's share of a save).
+  void captureMap();
+  /// On stop: the last save, waited for. @returns false when it failed.
+  bool saveMapOnStop();
+
   slam::Slam& pipeline_;
   map::MapOptions map_options_;
   SlamWorkerOptions options_;
   SharedState& state_;
-  std::vector<eval::StampedPose> trajectory_;
+  /// The located frames' poses (a loaded map's relocalising frames have none), in the map file's record.
+  std::vector<mapfile::StampedPose> trajectory_;
+  std::uint32_t relocalising_frames_ = 0;       ///< frames before the first located one (a loaded map)
+  bool located_ = true;                         ///< false until a loaded map's camera is located in it
+  std::optional<NavState> last_state_;          ///< the estimator's, for the map file (inertial modes)
+  std::uint64_t answered_request_ = 0;          ///< newest map save request taken up
+  std::int64_t next_save_ns_ = 0;               ///< host time of the next periodic save [ns]
   std::vector<eval::StateRecord> states_;       ///< inertial modes: the frames the estimator held
   std::int64_t recorded_imu_t_ns_ = INT64_MIN;  ///< newest IMU sample handed to the recorder
   std::vector<map::Surfel> snapshot_;

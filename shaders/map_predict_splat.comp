@@ -50,8 +50,8 @@ void main() {
   // Loaded once: the compiler may not hoist buffer loads across the atomics in the loop.
   const PredictionParams p = params;
   const uint count = state.surfel_count;
-  // The active model lies in [active_begin, surfel_count); the inactive one anywhere (map_state.glsl).
-  const uint first = p.surfels == kPredictInactive ? 0u : state.active_begin;
+  // The active model lies in [active_begin, surfel_count); the inactive and stable ones anywhere (map_state.glsl).
+  const uint first = p.surfels == kPredictActive ? state.active_begin : 0u;
   const uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
   for (uint i = first + gl_GlobalInvocationID.x; i < count; i += stride) {
     const Surfel surfel = surfels[i];

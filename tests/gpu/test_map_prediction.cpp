@@ -180,8 +180,9 @@ std::array<std::size_t, 4> pixelsWonByKind(ImageView<const std::uint32_t> ids, s
 // A map whose surfels take turns being active and stable, active and unstable, inactive and stable (last updated
 // 300 frames ago), inactive and unstable, with the inactive ones 5 cm in front so that they would win every
 // depth test they took part in: the active prediction shows only active stable surfels (as before), the inactive
-// one only inactive stable ones, each exactly as its CPU reference.
-TEST_P(MapPredictionTest, InactivePredictionRendersOnlyTheInactiveStableSurfels) {
+// one only inactive stable ones, the stable one (localisation-only) stable ones of both ages, each exactly as its
+// CPU reference.
+TEST_P(MapPredictionTest, EachPredictionRendersItsOwnSurfels) {
   test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
   frame.camera.fy *= GetParam().fy_sign;
   std::vector<Surfel> surfels = surfelsFromFrame(frame, frameGeometry(frame), 20.0f);
@@ -198,9 +199,11 @@ TEST_P(MapPredictionTest, InactivePredictionRendersOnlyTheInactiveStableSurfels)
     }
   }
   const SE3d T_C_W = frame.T_W_C.inverse();
-  for (const map::PredictedSurfels set : {map::PredictedSurfels::kActive, map::PredictedSurfels::kInactive}) {
+  for (const map::PredictedSurfels set :
+       {map::PredictedSurfels::kActive, map::PredictedSurfels::kInactive, map::PredictedSurfels::kStable}) {
     const bool inactive = set == map::PredictedSurfels::kInactive;
-    SCOPED_TRACE(inactive ? "inactive" : "active");
+    const bool stable = set == map::PredictedSurfels::kStable;
+    SCOPED_TRACE(stable ? "stable" : inactive ? "inactive" : "active");
     map::PredictionOptions options;
     options.surfels = set;
     MapRig rig(context(), 400'000, frame.camera, options);
@@ -212,10 +215,13 @@ TEST_P(MapPredictionTest, InactivePredictionRendersOnlyTheInactiveStableSurfels)
     expectPredictionMatchesCpu(rig, surfels, params);
 
     const std::array<std::size_t, 4> won = pixelsWonByKind(rig.image<std::uint32_t>(rig.ids()), surfels, params);
-    const auto shown = static_cast<std::size_t>(inactive ? Activity::InactiveStable : Activity::ActiveStable);
+    // kStable shows both stable kinds; the inactive surfels, moved 5 cm towards the camera, win most pixels.
+    const auto shown = static_cast<std::size_t>(inactive || stable ? Activity::InactiveStable : Activity::ActiveStable);
     for (std::size_t kind = 0; kind < won.size(); ++kind) {
       SCOPED_TRACE("kind " + std::to_string(kind));
-      if (kind == shown) {
+      if (stable && kind == static_cast<std::size_t>(Activity::ActiveStable)) {
+        EXPECT_GT(won[kind], 0u);  // where no inactive surfel is nearer
+      } else if (kind == shown) {
         // A quarter of the frame's surfels, each disk √2 pixels wide: much of the image is covered.
         EXPECT_GE(won[kind], pixelCount(frame.camera) / 4);
       } else {
@@ -261,8 +267,10 @@ TEST(PredictionOptions, ValidateNamesTheSurfelsField) {
   map::PredictionOptions options;
   options.surfels = map::PredictedSurfels::kInactive;
   EXPECT_NO_THROW(options.validate());
-  options.surfels = static_cast<map::PredictedSurfels>(2);
-  test::expectError([&] { options.validate(); }, "prediction option 'surfels' must be kActive or kInactive");
+  options.surfels = map::PredictedSurfels::kStable;
+  EXPECT_NO_THROW(options.validate());
+  options.surfels = static_cast<map::PredictedSurfels>(3);
+  test::expectError([&] { options.validate(); }, "prediction option 'surfels' must be kActive, kInactive or kStable");
 }
 
 INSTANTIATE_TEST_SUITE_P(Cameras, MapPredictionTest,

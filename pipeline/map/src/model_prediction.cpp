@@ -24,8 +24,9 @@ struct SubsamplePush {
 
 void PredictionOptions::validate() const {
   if (levels < 1 || levels > 8) throw Error(field("levels") + " must be in 1..8");
-  if (surfels != PredictedSurfels::kActive && surfels != PredictedSurfels::kInactive) {
-    throw Error(field("surfels") + " must be kActive or kInactive");
+  if (surfels != PredictedSurfels::kActive && surfels != PredictedSurfels::kInactive &&
+      surfels != PredictedSurfels::kStable) {
+    throw Error(field("surfels") + " must be kActive, kInactive or kStable");
   }
   if (!(min_depth_m > 0.0f)) throw Error(field("min_depth_m") + " must be > 0");
   if (max_half_footprint_px < 0 || max_half_footprint_px > 15)

@@ -10,6 +10,8 @@
 //   kPredictInactive (local loop closure's "inactive model", ElasticFusion's): NOT active (last
 //     updated more than δ_t frames ago) and STABLE. The young-map rule does not apply: a young map
 //     has no inactive surfels worth closing a loop on, and unstable ones are never rendered here.
+//   kPredictStable (localisation-only tracking's model): STABLE, whatever the age. Nothing is fused in
+//     that mode, so no surfel is ever updated and "active" would empty the model within δ_t frames.
 //
 // How: each surfel is a disk of radius r_eff = max(r, one pixel's footprint at its depth) — so
 // that every rendered surfel covers at least its centre pixel. Its footprint is the pixel box
@@ -38,13 +40,14 @@ struct PredictionParams {
   float min_depth_m;           // surfel centres nearer than this are not rendered [m]
   float max_depth_m;           // nor farther than this [m]
   int max_half_footprint_px;   // footprint cap: (2·cap + 1)² pixels
-  uint surfels;                // which surfels: kPredictActive or kPredictInactive
+  uint surfels;                // which surfels: kPredictActive, kPredictInactive or kPredictStable
   uint pad1;
 };
 
 // PredictionParams.surfels (vifusion::map::PredictedSurfels).
 const uint kPredictActive = 0u;
 const uint kPredictInactive = 1u;
+const uint kPredictStable = 2u;
 
 // "No surfel" in the splat id image (surfel indices are < 2^26).
 const uint kNoSurfel = 0xffffffffu;
@@ -54,6 +57,7 @@ bool isRendered(Surfel surfel, PredictionParams params) {
   const bool is_active = framesSince(params.view, surfel.colour_times.z) <= params.time_window_frames;
   const bool is_stable = surfel.position_confidence.w >= params.confidence_threshold;
   if (params.surfels == kPredictInactive) return !is_active && is_stable;
+  if (params.surfels == kPredictStable) return is_stable;
   return is_active && (is_stable || params.view.frame < params.young_map_frames);
 }
 

@@ -33,11 +33,12 @@ static_assert(offsetof(MapView, inv_fx) == 64);
 static_assert(offsetof(MapView, width) == 72);
 static_assert(offsetof(MapView, frame) == 80);
 
-/// Which surfels a prediction renders (PredictionParams::surfels; kPredictActive and kPredictInactive in
-/// prediction.glsl, which states the rules).
+/// Which surfels a prediction renders (PredictionParams::surfels; kPredictActive, kPredictInactive and
+/// kPredictStable in prediction.glsl, which states the rules).
 enum class PredictedSurfels : std::uint32_t {
   kActive = 0,  ///< active (updated within δ_t) and stable, every active one while the map is young: tracking's model
   kInactive = 1,  ///< inactive (not updated within δ_t) and stable: local loop closure's inactive model
+  kStable = 2,    ///< every stable surfel, whatever its age: localisation-only tracking's model (nothing fuses)
 };
 
 /// PredictionParams in prediction.glsl.

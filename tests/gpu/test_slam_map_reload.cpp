@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -98,6 +99,67 @@ TEST_F(GpuTest, ASavedMapIsReloadedRelocalisedIntoAndTrackedInItsOwnFrame) {
   EXPECT_LT(worst_m, 0.01);
   // The same surfaces again: fused into the loaded surfels, not mapped a second time.
   EXPECT_LT(surfels, saved.surfels + saved.surfels / 10);
+}
+
+// Localisation only: the pan tracked against the loaded map in its frame, and the map on the GPU still the file's
+// surfels bit for bit after 60 frames (nothing fused, aged, removed or deformed).
+TEST_F(GpuTest, LocalisationOnlyTracksInTheLoadedMapAndLeavesItAsLoaded) {
+  const RigCalibration calibration = test::panCalibration();
+  const test::Pan pan = test::renderPan(calibration.camera);
+  const std::string path = temporaryMap("pan_localisation.vifmap");
+  const slam::MapSaveReport saved = mapAndSave(context(), calibration, pan, path);
+
+  slam::SlamOptions options;
+  options.mapping = false;
+  slam::Slam slam(context(), calibration, options);
+  slam.loadMap(path);
+  std::vector<map::Surfel> loaded;
+  slam.exportMap(loaded);
+  const map::MapState loaded_state = slam.mapState();
+  ASSERT_EQ(loaded.size(), saved.surfels);
+
+  constexpr std::size_t kStart = 4;
+  constexpr std::uint32_t kFrames = 60;
+  const SE3d T_W_living = pan.T_W_C[0].inverse();
+  double worst_m = 0.0;
+  int lost = 0;
+  for (std::uint32_t i = 0; i < kFrames; ++i) {
+    const std::size_t k = test::panFrameIndex(kStart + i, pan.frames.size());
+    const slam::FrameResult result = slam.process(panFrame(pan, k, i));
+    ASSERT_FALSE(result.relocalising) << "frame " << i;
+    lost += result.lost() ? 1 : 0;
+    if (!result.lost()) {
+      worst_m = std::max(worst_m, ((T_W_living * pan.T_W_C[k]).translation() - result.T_W_C.translation()).norm());
+    }
+    EXPECT_EQ(result.surfels, saved.surfels) << "frame " << i;
+  }
+  std::printf("  localisation only: %d of %u frames lost, worst position error %.1f mm in the saved frame\n", lost,
+              kFrames, worst_m * 1e3);
+  EXPECT_EQ(lost, 0);
+  EXPECT_LT(worst_m, 0.01);
+  std::vector<map::Surfel> after;
+  slam.exportMap(after);
+  const map::MapState after_state = slam.mapState();
+  EXPECT_EQ(after_state.surfel_count, loaded_state.surfel_count);
+  EXPECT_EQ(after_state.active_begin, loaded_state.active_begin);
+  EXPECT_EQ(after_state.frame, loaded_state.frame);
+  ASSERT_EQ(after.size(), loaded.size());
+  EXPECT_EQ(std::memcmp(after.data(), loaded.data(), loaded.size() * sizeof(map::Surfel)), 0);
+}
+
+TEST_F(GpuTest, LocalisationOnlyWithoutALoadedMapIsRefusedByName) {
+  const RigCalibration calibration = test::panCalibration();
+  const test::Pan pan = test::renderPan(calibration.camera);
+  slam::SlamOptions options;
+  options.mapping = false;
+  slam::Slam slam(context(), calibration, options);
+  try {
+    slam.process(panFrame(pan, 0, 0));
+    FAIL() << "no error";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("localisation only (mapping off) needs a loaded map"), std::string::npos)
+        << error.what();
+  }
 }
 
 std::vector<char> fileBytes(const std::string& path) {

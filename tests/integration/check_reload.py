@@ -1,10 +1,12 @@
 #!/usr/bin/env python3
 """Issue 20 end to end on the 2 s synthetic living room: a run that loads the map an earlier run saved of the
 same frames relocalises into it and tracks in its frame; `vifusion eval --gt-origin` gives the ATE in that
-frame without alignment.
+frame without alignment. With --localisation-only the run tracks against the map without changing it: the map
+file is byte-identical afterwards and the map on the GPU keeps its surfel count.
 
-    check_reload.py VIFUSION DATASET SAVED_RUN_DIR OUT_DIR
+    check_reload.py VIFUSION DATASET SAVED_RUN_DIR OUT_DIR [--localisation-only]
 """
+import hashlib
 import json
 import os
 import shutil
@@ -36,10 +38,14 @@ def ate_in_saved_frame(vifusion, dataset, run_dir):
 
 def main():
     vifusion, dataset, saved_run, out = sys.argv[1:5]
+    localisation_only = sys.argv[5:] == ["--localisation-only"]
     shutil.rmtree(out, ignore_errors=True)
     saved_map = os.path.join(saved_run, "map.vifmap")
+    with open(saved_map, "rb") as f:
+        before = hashlib.sha256(f.read()).hexdigest()
     run = subprocess.run([vifusion, "run", "--mode", "rgbdi", "--source", "dataset:" + dataset, "--out", out,
-                          "--load-map", saved_map], capture_output=True, text=True)
+                          "--load-map", saved_map, *(["--localisation-only"] if localisation_only else [])],
+                         capture_output=True, text=True)
     if run.returncode != 0:
         fail(f"run exit {run.returncode}: {run.stderr.strip()[-2000:]}")
     with open(os.path.join(out, "report.json")) as f:
@@ -61,6 +67,14 @@ def main():
         fail(f"ATE in the saved frame {reloaded_ate} m > {MAX_ATE_RATIO} × {scratch_ate} m")
     if report["surfels"] > 1.1 * saved["surfels"]:
         fail(f"the map doubled: {saved['surfels']} → {report['surfels']} surfels over the same frames")
+    if localisation_only:
+        with open(saved_map, "rb") as f:
+            after = hashlib.sha256(f.read()).hexdigest()
+        if after != before:
+            fail("localisation only: the map file changed")
+        if not report["localisation_only"] or report["surfels"] != loaded["surfels"]:
+            fail(f"localisation only: the map went from {loaded['surfels']} to {report['surfels']} surfels")
+        print(f"localisation only: the map file byte-identical (sha256 {after[:16]}…), {report['surfels']} surfels")
 
 
 if __name__ == "__main__":

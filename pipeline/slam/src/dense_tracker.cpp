@@ -164,6 +164,7 @@ NormalEquations6 DenseTracker::evaluate(int level, const SE3d& T_ref_cur, Tracki
   NormalEquations6 sum = icp_->result(level);
   statistics.icp_inliers = sum.inliers;
   statistics.icp_candidates = sum.candidates;
+  statistics.icp_energy = sum.inliers > 0.0 ? sum.weighted_squared_residual / sum.inliers : 0.0;
   statistics.rgb_inliers = 0.0;
   statistics.valid_pixels = static_cast<double>(camera.width) * static_cast<double>(camera.height);
   if (options_.use_photometric) {

@@ -61,6 +61,7 @@ MapLoadReport Slam::loadMap(const std::string& path) {
   report.first_frame = first_frame_index_;
   loaded_state_ = report.state;
   relocalising_ = true;
+  map_loaded_ = true;
   report.elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

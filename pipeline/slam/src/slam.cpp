@@ -66,7 +66,8 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
       fill_(options.fill),
       time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns),
       T_S_C_(calibration.T_S_C),
-      gravity_mps2_(calibration.imu.gravity_mps2) {
+      gravity_mps2_(calibration.imu.gravity_mps2),
+      mapping_(options.mapping) {
   options.validate();
   const PinholeCamera& camera = calibration.camera;
   if (calibration.depth_camera && (calibration.depth_camera->camera.width != camera.width ||
@@ -89,6 +90,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   maintenance_ = std::make_unique<map::MapMaintenance>(context, plan_, *map_, camera, options.maintenance);
   map::PredictionOptions prediction = options.prediction;
   prediction.levels = options.tracker.levels;
+  if (!mapping_) prediction.surfels = map::PredictedSurfels::kStable;
   prediction_ = std::make_unique<map::ModelPrediction>(context, plan_, *map_, camera, prediction);
   exporter_ = std::make_unique<map::MapExport>(context, plan_, *map_);
   importer_ = std::make_unique<map::MapImport>(context, plan_, *map_);
@@ -130,9 +132,11 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   timestamps_ = std::make_unique<gpu::TimestampPool>(context, 2 * kMapStageSlots);
   for (int parity = 0; parity < 2; ++parity) {
     update_[parity] = gpu::CommandSequence::create(context, "slam.update" + std::to_string(parity));
-    update_[parity]->record([&](gpu::CommandRecorder& recorder) { recordMapUpdate(recorder, parity, true); });
+    const MapUpdate update = mapping_ ? MapUpdate::kFuse : MapUpdate::kPredictTracked;
+    update_[parity]->record([&](gpu::CommandRecorder& recorder) { recordMapUpdate(recorder, parity, update); });
     predict_only_[parity] = gpu::CommandSequence::create(context, "slam.predict" + std::to_string(parity));
-    predict_only_[parity]->record([&](gpu::CommandRecorder& recorder) { recordMapUpdate(recorder, parity, false); });
+    predict_only_[parity]->record(
+        [&](gpu::CommandRecorder& recorder) { recordMapUpdate(recorder, parity, MapUpdate::kPredictLost); });
   }
 }
 
@@ -143,8 +147,11 @@ Slam::~Slam() = default;
 // frame fills its holes for the photometric term.
 // Timestamps mark the stage boundaries (kSlot*): the fused sequence writes slots [0, kMapStageSlots), the
 // predict-only one the next kMapStageSlots, every slot in both so that one read gets them all.
-void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const {
-  const std::uint32_t base = fuse ? 0 : kMapStageSlots;
+void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, MapUpdate update) const {
+  const bool fuse = update == MapUpdate::kFuse;
+  const bool tracked = update != MapUpdate::kPredictLost;
+  // update_ and predict_only_ each write their own slots (readMapStages).
+  const std::uint32_t base = tracked ? 0 : kMapStageSlots;
   timestamps_->recordReset(recorder, base, kMapStageSlots);
   timestamps_->recordWrite(recorder, base + kSlotStart);
   int predicted_parity = parity;
@@ -164,7 +171,7 @@ void Slam::recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse
   timestamps_->recordWrite(recorder, base + kSlotPredicted);
   recordPredictionAsReference(recorder, *arena_, *prediction_, *tracker_);
   recorder.computeBarrier();
-  if (fuse) {  // a lost frame's pose is a guess: its maps stay out of the reference too
+  if (tracked) {  // a lost frame's pose is a guess: its maps stay out of the reference too
     reference_fill_->recordCoverage(recorder);
     recorder.computeBarrier();
     if (mode_ == SlamMode::kRgbd) {  // the inertial modes' dense terms take the reference as fixed (reference_fill.hpp)
@@ -235,6 +242,7 @@ void Slam::trackRgbd(FrameResult& result) {
   result.tracking = tracking.lost ? TrackingState::kLost : TrackingState::kTracked;
   result.icp_inliers = tracking.icp_inliers;
   result.icp_candidates = tracking.icp_candidates;
+  result.icp_energy = tracking.icp_energy;
   result.rgb_inliers = tracking.rgb_inliers;
   result.iterations = tracking.iterations;
   if (tracking.lost) {
@@ -263,6 +271,7 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
   const TrackingResult& statistics = dense_terms_->statistics();
   result.icp_inliers = statistics.icp_inliers;
   result.icp_candidates = statistics.icp_candidates;
+  result.icp_energy = statistics.icp_energy;
   result.rgb_inliers = statistics.rgb_inliers;
   result.iterations = solve.iterations;
   result.imu_chi2 = solve.imu_chi2;
@@ -289,6 +298,7 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
   result.pose_sigma_m = 0.0;
   result.icp_inliers = tracking.icp_inliers;
   result.icp_candidates = tracking.icp_candidates;
+  result.icp_energy = tracking.icp_energy;
   result.rgb_inliers = tracking.rgb_inliers;
   T_previous_current_ = SE3d();
   startEstimator(t_imu_ns, imu, &previous, result);
@@ -311,11 +321,13 @@ void Slam::locateInLoadedMap(std::int64_t t_imu_ns, std::span<const ImuSample> i
   result.relocalised = true;
   result.icp_inliers = tracking.icp_inliers;
   result.icp_candidates = tracking.icp_candidates;
+  result.icp_energy = tracking.icp_energy;
   result.rgb_inliers = tracking.rgb_inliers;
   result.iterations = tracking.iterations;
   // The saved surfels in view have aged past the time window while the map was on disk and the camera was
   // being located: active again, this frame fuses into them instead of mapping the place a second time.
-  loop_closure_->reactivateInView(result.T_W_C, frame_index_);
+  // (Localisation only renders every stable surfel and changes none: nothing to reactivate.)
+  if (mapping_) loop_closure_->reactivateInView(result.T_W_C, frame_index_);
   if (estimator_) {
     // The saved gravity direction and biases; the velocity of the saved run's last frame says nothing now.
     std::optional<NavState> start = loaded_state_;
@@ -391,6 +403,9 @@ void Slam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu,
 }
 
 FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu) {
+  if (!mapping_ && !map_loaded_) {
+    throw Error("localisation only (mapping off) needs a loaded map: Slam::loadMap before the first frame");
+  }
   FrameResult result;
   result.t_ns = frame.t_ns;
   const auto start = std::chrono::steady_clock::now();
@@ -422,6 +437,13 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
   if (result.lost()) {
     predict_only_[parity]->run();
     result.map_stages = readMapStages(false);
+  } else if (!mapping_) {
+    // Localisation only: nothing is fused (the map stays as loaded); the tracked frame still completes the
+    // reference view the next frame is tracked against.
+    update_[parity]->run();
+    result.map_stages = readMapStages(true);
+    result.map_stages.fusion_ms = result.map_stages.maintenance_ms = -1.0;
+    result.coverage = reference_fill_->coverage().share();
   } else {
     map::FusionPoseUncertainty uncertainty;
     if (result.tracking == TrackingState::kImuCarried) {
@@ -436,10 +458,10 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
     result.map_evicted = maintenance_->stats().evicted_when_full;
     result.coverage = reference_fill_->coverage().share();
   }
-  if (loop_closure_ && result.tracking == TrackingState::kTracked && frame_index_ > first_frame_index_) {
+  if (loop_closure_ && mapping_ && result.tracking == TrackingState::kTracked && frame_index_ > first_frame_index_) {
     closeLoop(result);
   }
-  if (relocaliser_ && result.tracking == TrackingState::kTracked) {
+  if (relocaliser_ && mapping_ && result.tracking == TrackingState::kTracked) {
     relocaliser_->offer(result.T_W_C, frame.t_ns, frame_index_);
   }
   const map::MapState state = map_->readState(*arena_);

@@ -40,6 +40,7 @@
 //   closure_free_directions  pose directions the registration left out as unconstrained by the surfaces in view
 //                         (0–4, model_registration.hpp; 0 unless it got that far)
 //   relocalised           1: lost to the recovery's guesses and tracked from a recognised place (relocaliser.hpp)
+//   icp_energy            the ICP's mean normalised squared residual (slam/dense_tracker.hpp TrackingResult)
 
 #include <filesystem>
 #include <vector>
@@ -89,6 +90,7 @@ class FrameLog {
     double closure_chi2 = 0.0;
     int closure_free_directions = 0;
     bool relocalised = false;
+    double icp_energy = 0.0;
   };
   std::vector<Row> rows_;
 };

@@ -65,6 +65,9 @@ int main(int argc, char** argv) {
   run->add_option("--load-map", run_options.load_map,
                   "Start from this saved map: relocalise into it (nothing is fused until then), then track and map in "
                   "its frame");
+  run->add_flag("--localisation-only", run_options.localisation_only,
+                "Track against the --load-map map without changing it: nothing fused, no closure, no keyframe (the "
+                "mode a fleet robot runs in day to day)");
   run->add_option("--save-map", run_options.save_map,
                   "Save the map at the end of the run to this file (surfels, keyframes, trajectory, calibration, "
                   "estimator state; `vifusion map info FILE` checks it)");

@@ -132,6 +132,13 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   slam_options.loop.enabled = options.loop_closure;
   slam_options.loop.gravity_term = options.gravity_term;
   slam_options.relocalisation.enabled = options.relocalisation;
+  slam_options.mapping = !options.localisation_only;
+  if (options.localisation_only && options.load_map.empty()) {
+    throw Error("--localisation-only tracks against a saved map: give it with --load-map FILE");
+  }
+  if (options.localisation_only && !options.save_map.empty()) {
+    throw Error("--localisation-only never changes the map: there is nothing new for --save-map to save");
+  }
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
   RunSource source;
@@ -259,6 +266,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
                            {"lost_frames", states_seen.frames(slam::TrackingState::kLost)},
                            {"tracking_states", states_seen.json()},
                            {"loop_closure", options.loop_closure},
+                           {"localisation_only", options.localisation_only},
                            {"closures", closures.json()},
                            {"closures_against_ground_truth", closure_judge.json()},
                            {"relocalisation",

@@ -31,6 +31,7 @@ struct RunOptions {
   bool gravity_term = true;    ///< the paper's E_imu in the deformation energy (inertial modes; the ablation when off)
   std::string load_map;        ///< non-empty: start from this saved map (slam/map_loading.hpp)
   std::string save_map;        ///< non-empty: save the map to this file at the end (slam/map_saving.hpp)
+  bool localisation_only = false;  ///< track against load_map without changing it (SlamOptions::mapping false)
 };
 
 /// Returns the exit code: 0, or 3 when the live camera cannot be opened (the message on stderr names what is

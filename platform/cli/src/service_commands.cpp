@@ -221,7 +221,9 @@ int runMapSave(const MapSaveCommandOptions& options) {
           "vifusion map save: not saved: vifusiond is still relocalising into the map it loaded, which is "
           "the file as it is\n");
     } else {
-      std::printf("vifusion map save: not saved: vifusiond has no map_file configured\n");
+      std::printf(
+          "vifusion map save: not saved: vifusiond has no map_file configured, or runs localisation only "
+          "(mapping: false), which never changes it\n");
     }
     return 1;
   }

@@ -115,6 +115,11 @@ struct TrackingResult {
   bool lost = false;            ///< too few inliers or a degenerate system: T_ref_cur is the guess
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
   double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction (the inliers' denominator)
+  /// level-0 ICP Σ w·r² / inliers of the last iteration: the mean squared point-to-plane residual in units of the
+  /// depth noise σ_z, Huber-weighted (icp_params.hpp). About 1–2 where frame and model agree within their noise
+  /// (both measure the surface: r has up to twice σ_z²); an alignment that slid along the surfaces keeps
+  /// residuals of centimetres under the ICP's 10 cm gate, many σ_z.
+  double icp_energy = 0.0;
   /// level-0 pixels with a valid vertex (the photometric term's candidates; the image size when it is off)
   double valid_pixels = 0.0;
   double rgb_inliers = 0.0;                           ///< level-0 photometric inliers of the last iteration

@@ -72,6 +72,12 @@ struct SlamOptions {
   LoopClosureOptions loop;
   /// Relocalisation of a lost camera by place recognition (relocaliser.hpp).
   RelocalisationOptions relocalisation;
+  /// false: localisation only, the mode a fleet robot runs in day to day. Frames are tracked against a loaded map
+  /// (loadMap before the first frame) and never change it: nothing is fused, no surfel ages or is removed, no loop
+  /// closure deforms it, no keyframe is added. Tracking's model is then every stable surfel whatever its age
+  /// (map::PredictedSurfels::kStable): with nothing fused no surfel is ever updated, so the active model would
+  /// empty within the time window.
+  bool mapping = true;
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -97,6 +103,7 @@ struct FrameResult {
   double pose_sigma_m = 0.0;
   double icp_inliers = 0.0;     ///< level-0 ICP inliers of the last iteration
   double icp_candidates = 0.0;  ///< level-0 pixels landing on the model prediction
+  double icp_energy = 0.0;      ///< TrackingResult::icp_energy of the frame's tracking
   /// The share of this frame's valid level-0 pixels that the map's prediction at its pose covers, before (in
   /// rgbd mode) the fill-in (reference_fill.hpp) fills the rest; −1 for a frame that was not fused (not counted)
   double coverage = -1.0;
@@ -197,7 +204,13 @@ class Slam {
   const map::MapBuffers& map() const { return *map_; }
 
  private:
-  void recordMapUpdate(gpu::CommandRecorder& recorder, int parity, bool fuse) const;
+  /// What a frame's map update does after tracking.
+  enum class MapUpdate {
+    kFuse,            ///< fuse, clean, predict, and take the frame into the reference view (coverage, fill-in)
+    kPredictTracked,  ///< localisation only: predict and take the tracked frame into the reference view
+    kPredictLost,     ///< a lost frame: predict only (its pose is a guess, its maps stay out of the reference)
+  };
+  void recordMapUpdate(gpu::CommandRecorder& recorder, int parity, MapUpdate update) const;
   /// The stage times of the map update that just completed (the timestamps recordMapUpdate wrote).
   MapStageTimes readMapStages(bool fused) const;
   /// Frame-to-model tracking by the dense terms alone from the constant-velocity guess, its rotation
@@ -249,12 +262,15 @@ class Slam {
   std::unique_ptr<TrackerDenseTerms> dense_terms_;           ///< inertial modes
   std::unique_ptr<estimator::TwoStateEstimator> estimator_;  ///< inertial modes
   std::unique_ptr<gpu::MemoryArena> arena_;
-  std::unique_ptr<gpu::TimestampPool> timestamps_;                     ///< recordMapUpdate's stage boundaries
-  std::array<std::unique_ptr<gpu::CommandSequence>, 2> update_;        ///< per parity: fuse, clean, predict
+  std::unique_ptr<gpu::TimestampPool> timestamps_;  ///< recordMapUpdate's stage boundaries
+  /// per parity: MapUpdate::kFuse, or kPredictTracked with mapping off
+  std::array<std::unique_ptr<gpu::CommandSequence>, 2> update_;
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> predict_only_;  ///< per parity: predict (lost frames)
   uint32_t frame_index_ = 0;
   uint32_t first_frame_index_ = 0;        ///< firstFrameIndex()
   bool relocalising_ = false;             ///< a loaded map's camera is not located yet
+  bool map_loaded_ = false;               ///< loadMap succeeded
+  bool mapping_ = true;                   ///< SlamOptions::mapping
   std::optional<NavState> loaded_state_;  ///< the loaded map's estimator state: gravity and biases to start from
   /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last
   /// tracked one (the map's view the camera is most likely to come back to).

@@ -156,6 +156,30 @@ def save_load():
         fail(f"second start: the map went from {saved['surfels']} to {resaved['surfels']} surfels over frames it "
              f"had mapped")
 
+    # Localisation only (mapping: false) over the first start's frames: tracked in the saved W, the file untouched, a
+    # save request answered without a save.
+    unchanged = sha(map_file)
+    localising = f"{work}/localisation_only"
+    service = daemon(localising, map_file, "--mapping", "false")
+    request = subprocess.run([f"{BIN}/vifusion", "map", "save", "--timeout", "60", *CLI_DDS_ARGS],
+                             capture_output=True, text=True, timeout=90)
+    code = service.wait(120)
+    if code != 0:
+        fail(f"localisation only: vifusiond exited with {code}:\n{log_of(localising)}")
+    if request.returncode != 1 or "localisation only" not in request.stdout:
+        fail(f"localisation only: vifusion map save answered exit {request.returncode}: {request.stdout}")
+    if sha(map_file) != unchanged or "map saved" in log_of(localising):
+        fail("localisation only: the map file was written")
+    # Paced at the camera's rate (the request needs the service running), so frames may be skipped on a loaded
+    # machine: the RMS over the frames it tracked, against the first start's poses of the same frames.
+    tracked = trajectory(localising)
+    offsets = [math.dist(before[t][0], tracked[t][0]) for t in set(before) & set(tracked)]
+    rms_m = math.sqrt(sum(d * d for d in offsets) / len(offsets))
+    print(f"localisation only: {len(tracked)} poses, {rms_m * 1000:.1f} mm RMS (max {max(offsets) * 1000:.1f} mm) from "
+          f"the first start's; the file unchanged; {request.stdout.strip()}", flush=True)
+    if rms_m > SAME_WORLD_M:
+        fail(f"localisation only: {rms_m:.3f} m RMS from the first start's poses over the same frames")
+
     # Third start, NOWHERE_S into the frames: turned further from every saved keyframe than a place guess may be
     # corrected (dense_tracker.hpp max_place_correction_rad, 11.5 deg), so the camera is never located. The service
     # says so in its status (TRACKING_RELOCALISING), vifusion-health warns, nothing else is published, and the file

@@ -32,6 +32,7 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
        &c.map_file_required},
       {"map_save_period_s", "Save map_file every this many seconds while running (0: on stop and request only)",
        &c.map_save_period_s},
+      {"mapping", "false: localisation only, track against map_file without changing it (needs map_file)", &c.mapping},
       {"log_file", "Log file, reopened on SIGHUP (\"\": stderr)", &c.log_file},
       {"record", "Record the source while mapping (frames, IMU, sync edges; MCAP, ROS 2 messages)", &c.record},
       {"record_dir", "Directory of the recordings (\"\": <out>/recordings); one vifusiond-TIME.mcap per start",

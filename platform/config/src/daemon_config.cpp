@@ -33,6 +33,9 @@ void DaemonConfig::validate() const {
           "key 'map_publish_period_s' must be >= 0 (0: never)");
   require(std::isfinite(map_save_period_s) && map_save_period_s >= 0.0,
           "key 'map_save_period_s' must be >= 0 (0: save on stop and on request only)");
+  require(mapping || (!map_file.empty() && map_file_required),
+          "key 'mapping' is false (localisation only), which tracks against a saved map: give it with 'map_file' and "
+          "keep 'map_file_required' true");
   require(positiveFinite(status_period_s) && status_period_s <= 1.0,
           "key 'status_period_s' must be in (0, 1] s: health needs the status at >= 1 Hz");
   require(dds.domain <= 232, "key 'dds.domain' = " + std::to_string(dds.domain) + " must be in 0..232");

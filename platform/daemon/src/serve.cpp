@@ -86,9 +86,10 @@ void takeMapSaveRequests(dds::Reader<dds::msg::MapSaveRequest>& requests, const 
       logLine(LogLevel::Warning, "map save request with id 0 ignored: ids start at 1");
       return;
     }
-    if (config.map_file.empty()) {
-      logLine(LogLevel::Warning, "map save request %llu: not saved, no map_file is configured",
-              static_cast<unsigned long long>(request.request_id));
+    if (config.map_file.empty() || !config.mapping) {
+      logLine(LogLevel::Warning, "map save request %llu: not saved, %s",
+              static_cast<unsigned long long>(request.request_id),
+              config.map_file.empty() ? "no map_file is configured" : "localisation only never changes the map");
       state.map_save_request_done = request.request_id;
       return;
     }
@@ -127,6 +128,7 @@ int serve(const config::DaemonConfig& config) {
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(config.mode);  // validate() admitted only the valid names
   slam_options.map.capacity = static_cast<std::uint32_t>(config.map_capacity);  // validate() bounded it
+  slam_options.mapping = config.mapping;
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   OpenedSource opened;
   try {
@@ -217,7 +219,7 @@ int serve(const config::DaemonConfig& config) {
   worker_options.recorder = inertial ? recorder.get() : nullptr;
   worker_options.take_newest = config.realtime;
   std::unique_ptr<MapSaver> map_saver;
-  if (!config.map_file.empty()) {
+  if (!config.map_file.empty() && config.mapping) {  // localisation only never changes the map: no saves
     map_saver =
         std::make_unique<MapSaver>(config.map_file, slam_options.map.capacity, worker_options.expected_frames, state);
   }
@@ -246,7 +248,8 @@ int serve(const config::DaemonConfig& config) {
     const int signal = signals.wait(100);
     if (signal == SIGTERM || signal == SIGINT) {
       logLine(LogLevel::Info, "%s: finishing the current frame, writing trajectory.txt and map.ply%s",
-              signal == SIGTERM ? "SIGTERM" : "SIGINT", config.map_file.empty() ? "" : " and saving the map file");
+              signal == SIGTERM ? "SIGTERM" : "SIGINT",
+              config.map_file.empty() || !config.mapping ? "" : " and saving the map file");
       state.stop = true;
     } else if (signal == SIGHUP) {
       service::reopenLog();

@@ -80,6 +80,9 @@ struct DaemonConfig {
   /// Save the map file every this many seconds while running [s]; 0: only on stop and on request. Each save
   /// holds the SLAM thread for the map's readback only; the write happens on its own thread.
   double map_save_period_s = 300.0;
+  /// false: localisation only (slam::SlamOptions::mapping), the mode a fleet robot runs in day to day: track against
+  /// map_file without changing it; nothing is saved. Needs map_file with map_file_required: true.
+  bool mapping = true;
   std::string log_file;  ///< log file, reopened on SIGHUP; "" = stderr (the journal)
   /// Record the source while mapping (drivers/recording: MCAP of ROS 2 messages) into record_dir.
   bool record = false;

@@ -10,13 +10,6 @@
 namespace vifusion::bench {
 namespace {
 
-bool parseFlag(const char* arg, const char* name, std::string& value) {
-  const std::size_t n = std::strlen(name);
-  if (std::strncmp(arg, name, n) != 0 || arg[n] != '=') return false;
-  value = arg + n + 1;
-  return true;
-}
-
 std::vector<Size> parseSizes(const std::string& text) {
   std::vector<Size> sizes;
   std::size_t begin = 0;
@@ -36,13 +29,30 @@ std::vector<Size> parseSizes(const std::string& text) {
   return sizes;
 }
 
-bool parseBool(const std::string& flag, const std::string& value) {
+}  // namespace
+
+bool takeFlag(const char* arg, const char* name, std::string& value) {
+  const std::size_t n = std::strlen(name);
+  if (std::strncmp(arg, name, n) != 0 || arg[n] != '=') return false;
+  value = arg + n + 1;
+  return true;
+}
+
+bool parseBoolFlag(const std::string& flag, const std::string& value) {
   if (value == "1" || value == "true") return true;
   if (value == "0" || value == "false") return false;
   throw Error(flag + ": expected 1 or 0, got '" + value + "'");
 }
 
-}  // namespace
+int parseIntFlag(const std::string& flag, const std::string& value, int min, int max) {
+  char* end = nullptr;
+  const long parsed = std::strtol(value.c_str(), &end, 10);
+  if (value.empty() || *end != '\0' || parsed < min || parsed > max) {
+    throw Error(flag + ": expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "], got '" +
+                value + "'");
+  }
+  return static_cast<int>(parsed);
+}
 
 BenchOptions& options() {
   static BenchOptions instance;
@@ -59,34 +69,34 @@ void parseOptions(int& argc, char** argv) {
   int kept = 1;
   for (int i = 1; i < argc; ++i) {
     std::string value;
-    if (parseFlag(argv[i], "--frames", value)) {
+    if (takeFlag(argv[i], "--frames", value)) {
       char* end = nullptr;
       const long frames = std::strtol(value.c_str(), &end, 10);
       if (*end != '\0' || frames < 4 || frames > 100000)
         throw Error("--frames: expected 4 … 100000, got '" + value + "'");
       o.frames = static_cast<int>(frames);
-    } else if (parseFlag(argv[i], "--sizes", value)) {
+    } else if (takeFlag(argv[i], "--sizes", value)) {
       o.sizes = parseSizes(value);
-    } else if (parseFlag(argv[i], "--data_dir", value)) {
+    } else if (takeFlag(argv[i], "--data_dir", value)) {
       o.data_dir = value;
-    } else if (parseFlag(argv[i], "--vifusion", value)) {
+    } else if (takeFlag(argv[i], "--vifusion", value)) {
       o.vifusion = value;
-    } else if (parseFlag(argv[i], "--noise", value)) {
-      o.noise = parseBool("--noise", value);
-    } else if (parseFlag(argv[i], "--photometric", value)) {
-      o.photometric = parseBool("--photometric", value);
-    } else if (parseFlag(argv[i], "--opencv", value)) {
-      o.opencv = parseBool("--opencv", value);
-    } else if (parseFlag(argv[i], "--open3d", value)) {
-      o.open3d = parseBool("--open3d", value);
-    } else if (parseFlag(argv[i], "--mode", value)) {
+    } else if (takeFlag(argv[i], "--noise", value)) {
+      o.noise = parseBoolFlag("--noise", value);
+    } else if (takeFlag(argv[i], "--photometric", value)) {
+      o.photometric = parseBoolFlag("--photometric", value);
+    } else if (takeFlag(argv[i], "--opencv", value)) {
+      o.opencv = parseBoolFlag("--opencv", value);
+    } else if (takeFlag(argv[i], "--open3d", value)) {
+      o.open3d = parseBoolFlag("--open3d", value);
+    } else if (takeFlag(argv[i], "--mode", value)) {
       // gyro mode is `vifusion run`'s experiment, not a configuration this benchmark measures.
       if (value != "rgbd" && value != "rgbdi") throw Error("--mode: expected rgbd or rgbdi, got '" + value + "'");
       o.mode = value;
-    } else if (parseFlag(argv[i], "--trajectory_dir", value)) {
+    } else if (takeFlag(argv[i], "--trajectory_dir", value)) {
       o.trajectory_dir = value;
-    } else if (parseFlag(argv[i], "--steps", value)) {
-      o.steps = parseBool("--steps", value);
+    } else if (takeFlag(argv[i], "--steps", value)) {
+      o.steps = parseBoolFlag("--steps", value);
     } else {
       if (std::strcmp(argv[i], "--help") == 0) {
         std::printf(

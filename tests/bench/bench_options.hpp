@@ -40,6 +40,13 @@ BenchOptions& options();
 /// throws Error naming the flag on a bad value.
 void parseOptions(int& argc, char** argv);
 
+/// When `arg` is "NAME=VALUE" for this `name`, sets `value` and returns true (for a benchmark's own flags).
+bool takeFlag(const char* arg, const char* name, std::string& value);
+/// "1"/"true" or "0"/"false"; throws Error naming `flag` otherwise.
+bool parseBoolFlag(const std::string& flag, const std::string& value);
+/// An integer in [min, max]; throws Error naming `flag` otherwise.
+int parseIntFlag(const std::string& flag, const std::string& value, int min, int max);
+
 /// The Vulkan device of every entry (picked once, honouring the VIFUSION_GPU_* environment).
 gpu::GpuContext& context();
 

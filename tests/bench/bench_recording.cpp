@@ -81,19 +81,6 @@ RecordingFlags& flags() {
   return instance;
 }
 
-bool takeFlag(const char* arg, const char* name, std::string& value) {
-  const std::size_t n = std::strlen(name);
-  if (std::strncmp(arg, name, n) != 0 || arg[n] != '=') return false;
-  value = arg + n + 1;
-  return true;
-}
-
-bool parseBoolFlag(const std::string& flag, const std::string& value) {
-  if (value == "1" || value == "true") return true;
-  if (value == "0" || value == "false") return false;
-  throw Error(flag + ": expected 1 or 0, got '" + value + "'");
-}
-
 /// Takes this program's own flags out of argv; bench_options' and Google Benchmark's stay.
 void parseRecordingFlags(int& argc, char** argv) {
   constexpr double kMaxSeconds = 3600.0;

@@ -39,6 +39,7 @@
 #include "bench_options.hpp"
 #include "bench_sequence.hpp"
 #include "growth_plot.hpp"
+#include "single_entry_main.hpp"
 #include "timing.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/time.hpp"
@@ -217,30 +218,15 @@ void mapGrowth(benchmark::State& state, Size size) {
 }  // namespace vifusion::bench
 
 int main(int argc, char** argv) {
-  try {
-    vifusion::bench::options().sizes = {{320, 240}};
-    vifusion::bench::options().frames = 1510;  // the whole of living_room_0
-    vifusion::bench::parseGrowthFlags(argc, argv);
-    vifusion::bench::parseOptions(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_map_growth: %s\n", e.what());
-    return 2;
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  try {
-    const vifusion::bench::Size size = vifusion::bench::options().sizes.front();
-    benchmark::AddCustomContext("sequence", std::string("sim:") + vifusion::bench::kPreset + ", " +
-                                                std::to_string(vifusion::bench::options().frames) +
-                                                " frames, played forwards and backwards");
-    benchmark::RegisterBenchmark(("map_growth/" + size.name()).c_str(), vifusion::bench::mapGrowth, size)
-        ->Iterations(1)
-        ->Unit(benchmark::kMillisecond);
-    benchmark::RunSpecifiedBenchmarks();
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_map_growth: %s\n", e.what());
-    return 1;
-  }
-  benchmark::Shutdown();
-  return 0;
+  vifusion::bench::options().sizes = {{320, 240}};
+  vifusion::bench::options().frames = 1510;  // the whole of living_room_0
+  vifusion::bench::SingleEntry entry;
+  entry.program = "bench_map_growth";
+  entry.family = "map_growth";
+  entry.parse_own_flags = vifusion::bench::parseGrowthFlags;
+  entry.run = vifusion::bench::mapGrowth;
+  entry.unit = benchmark::kMillisecond;
+  entry.real_time = false;
+  entry.sequence_note = ", played forwards and backwards";
+  return vifusion::bench::runSingleEntry(argc, argv, entry);
 }

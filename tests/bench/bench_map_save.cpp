@@ -43,6 +43,7 @@
 
 #include "bench_options.hpp"
 #include "bench_sequence.hpp"
+#include "single_entry_main.hpp"
 #include "timing.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/daemon/map_saver.hpp"
@@ -204,29 +205,11 @@ void saveWhileMapping(benchmark::State& state, Size size) {
 }  // namespace vifusion::bench
 
 int main(int argc, char** argv) {
-  try {
-    vifusion::bench::options().sizes = {{320, 240}};  // --sizes overrides
-    vifusion::bench::parseSaveFlags(argc, argv);
-    vifusion::bench::parseOptions(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_map_save: %s\n", e.what());
-    return 2;
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  try {
-    const vifusion::bench::Size size = vifusion::bench::options().sizes.front();
-    benchmark::AddCustomContext("sequence", std::string("sim:") + vifusion::bench::kPreset + ", " +
-                                                std::to_string(vifusion::bench::options().frames) + " frames");
-    benchmark::RegisterBenchmark(("map_save/" + size.name()).c_str(), vifusion::bench::saveWhileMapping, size)
-        ->Iterations(1)
-        ->Unit(benchmark::kSecond)
-        ->UseRealTime();
-    benchmark::RunSpecifiedBenchmarks();
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_map_save: %s\n", e.what());
-    return 1;
-  }
-  benchmark::Shutdown();
-  return 0;
+  vifusion::bench::options().sizes = {{320, 240}};  // --sizes overrides
+  vifusion::bench::SingleEntry entry;
+  entry.program = "bench_map_save";
+  entry.family = "map_save";
+  entry.parse_own_flags = vifusion::bench::parseSaveFlags;
+  entry.run = vifusion::bench::saveWhileMapping;
+  return vifusion::bench::runSingleEntry(argc, argv, entry);
 }

@@ -48,6 +48,7 @@
 
 #include "bench_options.hpp"
 #include "bench_sequence.hpp"
+#include "single_entry_main.hpp"
 #include "timing.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/time.hpp"
@@ -312,29 +313,11 @@ void recordWhileMapping(benchmark::State& state, Size size) {
 }  // namespace vifusion::bench
 
 int main(int argc, char** argv) {
-  try {
-    vifusion::bench::options().sizes = {{640, 480}};  // the size; --sizes overrides
-    vifusion::bench::parseRecordingFlags(argc, argv);
-    vifusion::bench::parseOptions(argc, argv);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_recording: %s\n", e.what());
-    return 2;
-  }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  try {
-    const vifusion::bench::Size size = vifusion::bench::options().sizes.front();
-    benchmark::AddCustomContext("sequence", std::string("sim:") + vifusion::bench::kPreset + ", " +
-                                                std::to_string(vifusion::bench::options().frames) + " frames");
-    benchmark::RegisterBenchmark(("recording/" + size.name()).c_str(), vifusion::bench::recordWhileMapping, size)
-        ->Iterations(1)
-        ->Unit(benchmark::kSecond)
-        ->UseRealTime();
-    benchmark::RunSpecifiedBenchmarks();
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "bench_recording: %s\n", e.what());
-    return 1;
-  }
-  benchmark::Shutdown();
-  return 0;
+  vifusion::bench::options().sizes = {{640, 480}};  // the size; --sizes overrides
+  vifusion::bench::SingleEntry entry;
+  entry.program = "bench_recording";
+  entry.family = "recording";
+  entry.parse_own_flags = vifusion::bench::parseRecordingFlags;
+  entry.run = vifusion::bench::recordWhileMapping;
+  return vifusion::bench::runSingleEntry(argc, argv, entry);
 }

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -344,6 +345,13 @@ TEST(RunReport, ACoveredCameraRelocalisesOnTheMappedRevisit) {
   EXPECT_LE(static_cast<double>(back) - static_cast<double>(cover_end), kMaxRelocalisationS * kFrameRateHz)
       << "first tracked frame after the cover: " << back;
   EXPECT_EQ(table.at(back, "relocalised"), 1.0) << "the 2 s old guesses must not be what tracks, row " << back;
+  // The relocalised frame agrees with its keyframe image to image (the same place, seen again): most of its
+  // overlapping blocks within the depth gate, its colour correlated (printed for tests/bench/README.md).
+  const double overlap = table.at(back, "place_overlap"), agreeing = table.at(back, "place_depth_agreeing");
+  std::printf("  relocalised frame: %.0f overlapping blocks, %.0f within the depth gate, luma NCC %.3f\n", overlap,
+              agreeing, table.at(back, "place_luma_ncc"));
+  EXPECT_GT(overlap, 0.0);
+  EXPECT_LE(agreeing, overlap);
   for (std::size_t i = back; i < table.rows.size(); ++i) EXPECT_EQ(table.at(i, "lost"), 0.0) << "row " << i;
   EXPECT_GE(covered.at("relocalisation").at("relocalisations").get<int>(), 1);
   EXPECT_GT(covered.at("relocalisation").at("keyframes").get<int>(), 0);

@@ -56,6 +56,13 @@ bool Relocaliser::looksLikeLastTracked() const {
   return loop::fernDissimilarity(frame_.codes, last_tracked_) <= options_.ferns.keyframe_threshold;
 }
 
+loop::KeyframeAgreement Relocaliser::agreement(const PlaceCandidate& place, const SE3d& T_W_C,
+                                               const PinholeCamera& camera, double depth_gate_m) const {
+  const loop::FernKeyframe keyframe = database_.keyframe(place.keyframe);
+  return loop::keyframeAgreement(frame_.image, keyframe, place.T_W_C.inverse() * T_W_C, camera,
+                                 options_.ferns.downsample_factor, depth_gate_m);
+}
+
 std::optional<PlaceCandidate> Relocaliser::candidate() {
   const loop::FernMatch match = database_.nearest(frame_.codes);
   if (!match.found() || match.dissimilarity > options_.ferns.keyframe_threshold) return std::nullopt;

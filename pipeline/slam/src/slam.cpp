@@ -86,6 +86,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   fusion.depth_noise = {icp.sigma_z_a_m, icp.sigma_z_b_per_m, icp.sigma_z_z0_m};
   far_depth_m_ = options.tracker.preprocess.metric.max_depth_m;
   far_depth_sigma_m_ = icp.axialSigmaAt(far_depth_m_);
+  place_depth_gate_m_ = icp.max_distance_m;
   fusion_ = std::make_unique<map::SurfelFusion>(context, plan_, *map_, camera, fusion);
   maintenance_ = std::make_unique<map::MapMaintenance>(context, plan_, *map_, camera, options.maintenance);
   map::PredictionOptions prediction = options.prediction;
@@ -348,6 +349,8 @@ bool Slam::relocalise(TrackingResult& tracking, SE3d& T_W_place) {
   if (at_place.lost || !tracker_->explainsFrame(at_place)) return false;
   tracking = at_place;
   T_W_place = place->T_W_C;
+  place_agreement_ =
+      relocaliser_->agreement(*place, T_W_place * at_place.T_ref_cur, prediction_->camera(0), place_depth_gate_m_);
   return true;
 }
 
@@ -469,6 +472,7 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
   result.active_surfels = state.surfel_count - state.active_begin;
   result.map_overflow = state.overflow_count;
   result.T_W_O = T_W_O_;
+  if (result.relocalised) result.place_agreement = place_agreement_;
   result.mapping_ms = msSince(map_start);
   ++frame_index_;
   return result;

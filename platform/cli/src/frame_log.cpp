@@ -43,7 +43,8 @@ void FrameLog::add(const slam::FrameResult& result) {
                    result.closure.registration.correction_chi2,
                    result.closure.registration.free_directions,
                    result.relocalised,
-                   result.icp_energy});
+                   result.icp_energy,
+                   result.place_agreement});
 }
 
 void FrameLog::write(const std::filesystem::path& path) const {
@@ -57,20 +58,21 @@ void FrameLog::write(const std::filesystem::path& path) const {
       "mapping_ms,fusion_gpu_ms,maintenance_gpu_ms,prediction_gpu_ms,reference_gpu_ms,imu_chi2,vision_chi2,vision_"
       "rejected,closure,closure_refusal,closure_error_mm,closure_"
       "inliers,closure_sigma_mm,closure_sigma_deg,closure_ms,closure_correction_mm,closure_correction_deg,closure_"
-      "chi2,closure_free_directions,relocalised,icp_energy\n");
+      "chi2,closure_free_directions,relocalised,icp_energy,place_overlap,place_depth_agreeing,place_luma_ncc\n");
   for (const Row& r : rows_) {
-    std::fprintf(
-        file,
-        "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.6g,%.6g,%"
-        "d,%d,%d,%.3f,%.0f,%.3f,%"
-        ".4f,%.1f,%.3f,%.4f,%.4g,%d,%d,%.3f\n",
-        static_cast<long long>(r.t_ns), static_cast<int>(r.tracking), r.tracking == slam::TrackingState::kLost ? 1 : 0,
-        r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers, r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0,
-        r.iterations, r.surfels, r.active_surfels, r.evicted, r.preprocess_ms, r.tracking_ms, r.mapping_ms,
-        r.map_stages.fusion_ms, r.map_stages.maintenance_ms, r.map_stages.prediction_ms, r.map_stages.reference_ms,
-        r.imu_chi2, r.vision_chi2, r.vision_rejected ? 1 : 0, r.closure, r.closure_refusal, r.closure_error_mm,
-        r.closure_inliers, r.closure_sigma_mm, r.closure_sigma_deg, r.closure_ms, r.closure_correction_mm,
-        r.closure_correction_deg, r.closure_chi2, r.closure_free_directions, r.relocalised ? 1 : 0, r.icp_energy);
+    std::fprintf(file,
+                 "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.6g,%.6g,%"
+                 "d,%d,%d,%.3f,%.0f,%.3f,%"
+                 ".4f,%.1f,%.3f,%.4f,%.4g,%d,%d,%.3f,%d,%d,%.3f\n",
+                 static_cast<long long>(r.t_ns), static_cast<int>(r.tracking),
+                 r.tracking == slam::TrackingState::kLost ? 1 : 0, r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers,
+                 r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0, r.iterations, r.surfels, r.active_surfels,
+                 r.evicted, r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.map_stages.fusion_ms,
+                 r.map_stages.maintenance_ms, r.map_stages.prediction_ms, r.map_stages.reference_ms, r.imu_chi2,
+                 r.vision_chi2, r.vision_rejected ? 1 : 0, r.closure, r.closure_refusal, r.closure_error_mm,
+                 r.closure_inliers, r.closure_sigma_mm, r.closure_sigma_deg, r.closure_ms, r.closure_correction_mm,
+                 r.closure_correction_deg, r.closure_chi2, r.closure_free_directions, r.relocalised ? 1 : 0,
+                 r.icp_energy, r.place_agreement.overlap, r.place_agreement.depth_agreeing, r.place_agreement.luma_ncc);
   }
   if (std::fclose(file) != 0) throw Error(temporary + ": write failed");
   std::filesystem::rename(temporary, path);

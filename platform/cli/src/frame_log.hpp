@@ -41,6 +41,8 @@
 //                         (0–4, model_registration.hpp; 0 unless it got that far)
 //   relocalised           1: lost to the recovery's guesses and tracked from a recognised place (relocaliser.hpp)
 //   icp_energy            the ICP's mean normalised squared residual (slam/dense_tracker.hpp TrackingResult)
+//   place_overlap, place_depth_agreeing, place_luma_ncc   a relocalised frame's agreement with its keyframe
+//                         (loop/keyframe_agreement.hpp): overlapping blocks, those within the depth gate, luma NCC
 
 #include <filesystem>
 #include <vector>
@@ -91,6 +93,7 @@ class FrameLog {
     int closure_free_directions = 0;
     bool relocalised = false;
     double icp_energy = 0.0;
+    loop::KeyframeAgreement place_agreement;
   };
   std::vector<Row> rows_;
 };

@@ -18,6 +18,7 @@
 #include "vifusion/core/sensor_data.hpp"
 #include "vifusion/loop/fern_database.hpp"
 #include "vifusion/loop/fern_options.hpp"
+#include "vifusion/loop/keyframe_agreement.hpp"
 
 namespace vifusion::slam {
 
@@ -77,6 +78,10 @@ class Relocaliser {
   /// (mapfile/map_sections.hpp), before the first frame. Allocates. @throws vifusion::Error when the saved
   /// database was made for frames of another size
   void replaceDatabase(loop::FernDatabase database);
+  /// How this frame, placed at T_W_C, agrees with the keyframe of `place` image to image
+  /// (loop/keyframe_agreement.hpp). No allocation.
+  loop::KeyframeAgreement agreement(const PlaceCandidate& place, const SE3d& T_W_C, const PinholeCamera& camera,
+                                    double depth_gate_m) const;
   /// Drops every keyframe (a load that failed half-way).
   void reset() { database_.reset(); }
   /// The keyframes and their ferns (what a saved map keeps: mapfile/map_sections.hpp).

@@ -148,6 +148,9 @@ struct FrameResult {
   /// A loaded map's camera not located yet (map_loading.hpp): tracking is kLost, nothing is fused, T_W_C is
   /// not a pose.
   bool relocalising = false;
+  /// A `relocalised` frame's agreement with the keyframe it was placed by, image to image
+  /// (loop/keyframe_agreement.hpp): a diagnostic of the place verification, not a test of it. Zeros otherwise.
+  loop::KeyframeAgreement place_agreement;
 
   /// Not fused, and the pose is no more than a guess.
   bool lost() const { return tracking == TrackingState::kLost; }
@@ -267,11 +270,13 @@ class Slam {
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> update_;
   std::array<std::unique_ptr<gpu::CommandSequence>, 2> predict_only_;  ///< per parity: predict (lost frames)
   uint32_t frame_index_ = 0;
-  uint32_t first_frame_index_ = 0;        ///< firstFrameIndex()
-  bool relocalising_ = false;             ///< a loaded map's camera is not located yet
-  bool map_loaded_ = false;               ///< loadMap succeeded
-  bool mapping_ = true;                   ///< SlamOptions::mapping
-  std::optional<NavState> loaded_state_;  ///< the loaded map's estimator state: gravity and biases to start from
+  uint32_t first_frame_index_ = 0;           ///< firstFrameIndex()
+  bool relocalising_ = false;                ///< a loaded map's camera is not located yet
+  bool map_loaded_ = false;                  ///< loadMap succeeded
+  loop::KeyframeAgreement place_agreement_;  ///< the last relocalise()'s, when it succeeded
+  double place_depth_gate_m_ = 0.0;          ///< the ICP's association gate, for place_agreement_
+  bool mapping_ = true;                      ///< SlamOptions::mapping
+  std::optional<NavState> loaded_state_;     ///< the loaded map's estimator state: gravity and biases to start from
   /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last
   /// tracked one (the map's view the camera is most likely to come back to).
   SE3d T_W_reference_;

@@ -123,6 +123,16 @@ int runStatus(const StatusCommandOptions& options) {
                             static_cast<unsigned long long>(s.source_reopens));
               status_text += line;
             }
+            if (s.map_saves > 0 || s.map_save_failures > 0) {
+              std::snprintf(line, sizeof(line),
+                            "vifusiond: map file: %llu saves (%llu failed), last %llu bytes (SLAM thread held %.0f ms, "
+                            "written in %.0f ms)\n",
+                            static_cast<unsigned long long>(s.map_saves),
+                            static_cast<unsigned long long>(s.map_save_failures),
+                            static_cast<unsigned long long>(s.map_file_bytes), static_cast<double>(s.map_capture_ms),
+                            static_cast<double>(s.map_write_ms));
+              status_text += line;
+            }
             if (s.sync_edges > 0 || s.sync_edge_rate_hz > 0.0f) {
               std::snprintf(line, sizeof(line), "vifusiond: sync line: %.1f edges/s, %llu edges\n",
                             static_cast<double>(s.sync_edge_rate_hz), static_cast<unsigned long long>(s.sync_edges));

@@ -152,6 +152,15 @@ void ModelPrediction::setView(const SE3d& T_C_W, std::uint32_t frame) const {
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
 }
 
+void ModelPrediction::setView(const SE3d& T_C_W, std::uint32_t frame, PredictedSurfels surfels) const {
+  if (options_.surfels == PredictedSurfels::kInactive || surfels == PredictedSurfels::kInactive) {
+    throw Error("model prediction: the inactive model's selection is fixed (its own buffers)");
+  }
+  PredictionParams params = makeParams(T_C_W, frame);
+  params.surfels = static_cast<std::uint32_t>(surfels);
+  std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
+}
+
 void ModelPrediction::record(gpu::CommandRecorder& recorder, int parity) const {
   const Kernels& k = *kernels_;
   const int p = parity & 1;

@@ -34,18 +34,29 @@ MapLoadReport Slam::loadMap(const std::string& path) {
                   std::to_string(height));
     }
     report.state = mapfile::readState(reader);
-    mapfile::readTrajectory(reader);  // kept in the file for its users; a run does not need the old poses
+    // The old poses are kept in the file for its users; a run takes only their heights (the map search's).
+    const std::vector<mapfile::StampedPose> trajectory = mapfile::readTrajectory(reader);
     std::optional<loop::FernDatabase> keyframes = mapfile::readKeyframes(reader);
     if (!keyframes || keyframes->size() == 0)
       reader.fail("no keyframes to relocalise against (the map was saved with relocalisation off)");
     report.keyframes = keyframes->size();
     relocaliser_->replaceDatabase(std::move(*keyframes));
     const mapfile::SurfelsHeader surfels = mapfile::beginSurfels(reader);
-    importer_->load(surfels.surfel_count, surfels.frame, [&reader](std::uint32_t, std::span<map::Surfel> chunk) {
+    // The map search needs the stable surfaces on the host (inertial modes: it needs the saved gravity).
+    const bool search = relocalisation_.map_search && estimator_ && report.state;
+    std::vector<Eigen::Vector3f> stable_W;
+    const float stable_confidence = map_->options().confidence_threshold;
+    importer_->load(surfels.surfel_count, surfels.frame, [&](std::uint32_t, std::span<map::Surfel> chunk) {
       reader.getF32s({reinterpret_cast<float*>(chunk.data()), chunk.size() * mapfile::kSurfelFloats});
+      if (!search) return;
+      for (const map::Surfel& surfel : chunk) {
+        if (surfel.position_confidence.w() >= stable_confidence)
+          stable_W.push_back(surfel.position_confidence.head<3>());
+      }
     });
     reader.endSection();
     reader.finish();
+    if (search) prepareMapSearch(stable_W, trajectory, *report.state);
     report.mode = meta.mode;
     report.frames = meta.frames;
     report.bytes = reader.fileBytes();
@@ -55,6 +66,7 @@ MapLoadReport Slam::loadMap(const std::string& path) {
   } catch (...) {
     map_->reset(*arena_);
     relocaliser_->reset();
+    map_search_.reset();
     throw;
   }
   frame_index_ = first_frame_index_;

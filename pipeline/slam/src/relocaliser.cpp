@@ -8,6 +8,8 @@ namespace vifusion::slam {
 
 void RelocalisationOptions::validate() const {
   ferns.validate();
+  distance_field.validate();
+  search.validate();
   if (fern_image_width < 1) throw Error("relocalisation option 'fern_image_width' must be ≥ 1");
 }
 

@@ -67,7 +67,8 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
       time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns),
       T_S_C_(calibration.T_S_C),
       gravity_mps2_(calibration.imu.gravity_mps2),
-      mapping_(options.mapping) {
+      mapping_(options.mapping),
+      relocalisation_(options.relocalisation) {
   options.validate();
   const PinholeCamera& camera = calibration.camera;
   if (calibration.depth_camera && (calibration.depth_camera->camera.width != camera.width ||
@@ -85,6 +86,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   map::FusionOptions fusion = options.fusion;
   fusion.depth_noise = {icp.sigma_z_a_m, icp.sigma_z_b_per_m, icp.sigma_z_z0_m};
   far_depth_m_ = options.tracker.preprocess.metric.max_depth_m;
+  min_depth_m_ = options.tracker.preprocess.metric.min_depth_m;
   far_depth_sigma_m_ = icp.axialSigmaAt(far_depth_m_);
   place_depth_gate_m_ = icp.max_distance_m;
   fusion_ = std::make_unique<map::SurfelFusion>(context, plan_, *map_, camera, fusion);
@@ -308,7 +310,7 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
 void Slam::locateInLoadedMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result) {
   TrackingResult tracking;
   SE3d T_W_place;
-  if (!relocalise(tracking, T_W_place)) {
+  if (!relocalise(tracking, T_W_place) && !searchMap(t_imu_ns, imu, tracking, T_W_place, result)) {
     result.tracking = TrackingState::kLost;
     result.relocalising = true;
     return;

@@ -44,7 +44,11 @@ void FrameLog::add(const slam::FrameResult& result) {
                    result.closure.registration.free_directions,
                    result.relocalised,
                    result.icp_energy,
-                   result.place_agreement});
+                   result.place_agreement,
+                   result.map_search_hypotheses,
+                   result.map_search_verified,
+                   result.map_search_cost,
+                   result.map_search_inliers});
 }
 
 void FrameLog::write(const std::filesystem::path& path) const {
@@ -58,12 +62,14 @@ void FrameLog::write(const std::filesystem::path& path) const {
       "mapping_ms,fusion_gpu_ms,maintenance_gpu_ms,prediction_gpu_ms,reference_gpu_ms,imu_chi2,vision_chi2,vision_"
       "rejected,closure,closure_refusal,closure_error_mm,closure_"
       "inliers,closure_sigma_mm,closure_sigma_deg,closure_ms,closure_correction_mm,closure_correction_deg,closure_"
-      "chi2,closure_free_directions,relocalised,icp_energy,place_overlap,place_depth_agreeing,place_luma_ncc\n");
+      "chi2,closure_free_directions,relocalised,icp_energy,place_overlap,place_depth_agreeing,place_luma_ncc,map_"
+      "search_hypotheses,map_search_"
+      "verified,map_search_cost,map_search_inliers\n");
   for (const Row& r : rows_) {
     std::fprintf(file,
                  "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.6g,%.6g,%"
                  "d,%d,%d,%.3f,%.0f,%.3f,%"
-                 ".4f,%.1f,%.3f,%.4f,%.4g,%d,%d,%.3f,%d,%d,%.3f\n",
+                 ".4f,%.1f,%.3f,%.4f,%.4g,%d,%d,%.3f,%d,%d,%.3f,%d,%d,%.4f,%.3f\n",
                  static_cast<long long>(r.t_ns), static_cast<int>(r.tracking),
                  r.tracking == slam::TrackingState::kLost ? 1 : 0, r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers,
                  r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0, r.iterations, r.surfels, r.active_surfels,
@@ -72,7 +78,8 @@ void FrameLog::write(const std::filesystem::path& path) const {
                  r.vision_chi2, r.vision_rejected ? 1 : 0, r.closure, r.closure_refusal, r.closure_error_mm,
                  r.closure_inliers, r.closure_sigma_mm, r.closure_sigma_deg, r.closure_ms, r.closure_correction_mm,
                  r.closure_correction_deg, r.closure_chi2, r.closure_free_directions, r.relocalised ? 1 : 0,
-                 r.icp_energy, r.place_agreement.overlap, r.place_agreement.depth_agreeing, r.place_agreement.luma_ncc);
+                 r.icp_energy, r.place_agreement.overlap, r.place_agreement.depth_agreeing, r.place_agreement.luma_ncc,
+                 r.map_search_hypotheses, r.map_search_verified, r.map_search_cost, r.map_search_inliers);
   }
   if (std::fclose(file) != 0) throw Error(temporary + ": write failed");
   std::filesystem::rename(temporary, path);

@@ -43,6 +43,8 @@
 //   icp_energy            the ICP's mean normalised squared residual (slam/dense_tracker.hpp TrackingResult)
 //   place_overlap, place_depth_agreeing, place_luma_ncc   a relocalised frame's agreement with its keyframe
 //                         (loop/keyframe_agreement.hpp): overlapping blocks, those within the depth gate, luma NCC
+//   map_search_hypotheses, map_search_verified, map_search_cost, map_search_inliers   a loaded map's camera that
+//                         no keyframe placed, searched for in the whole map (slam::FrameResult's fields)
 
 #include <filesystem>
 #include <vector>
@@ -94,6 +96,10 @@ class FrameLog {
     bool relocalised = false;
     double icp_energy = 0.0;
     loop::KeyframeAgreement place_agreement;
+    int map_search_hypotheses = 0;
+    int map_search_verified = 0;
+    double map_search_cost = 1.0;
+    double map_search_inliers = 0.0;
   };
   std::vector<Row> rows_;
 };

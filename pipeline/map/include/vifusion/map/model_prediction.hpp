@@ -75,6 +75,10 @@ class ModelPrediction {
   PredictionParams makeParams(const SE3d& T_C_W, std::uint32_t frame) const;
   /// Writes them for the next submission (host, no allocation).
   void setView(const SE3d& T_C_W, std::uint32_t frame) const;
+  /// The same, rendering `surfels` instead of the instance's own selection for this one submission: a camera
+  /// entering a saved map is verified against every stable surfel (kStable) by the active instance, whose
+  /// buffers the tracker reads. Only kActive and kStable share the instance's buffers' meaning.
+  void setView(const SE3d& T_C_W, std::uint32_t frame, PredictedSurfels surfels) const;
 
   /// Records the prediction from surfel array `parity` (MapBuffers::current() when it runs),
   /// ending with a compute barrier that makes the model maps visible to later kernels and copies.

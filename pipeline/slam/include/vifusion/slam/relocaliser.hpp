@@ -18,6 +18,7 @@
 #include "vifusion/core/sensor_data.hpp"
 #include "vifusion/loop/fern_database.hpp"
 #include "vifusion/loop/fern_options.hpp"
+#include "vifusion/loop/global_place_search.hpp"
 #include "vifusion/loop/keyframe_agreement.hpp"
 
 namespace vifusion::slam {
@@ -34,6 +35,12 @@ struct RelocalisationOptions {
   /// at least this wide, so a 160×120 run recognises places from the same 80×60 image as a 640×480 one rather
   /// than from 20×15. ≥ 1.
   int fern_image_width = 80;
+  /// Entering a saved map in the inertial modes (Slam::loadMap): when no keyframe recognises a frame, search the
+  /// whole map for it (loop/global_place_search.hpp) — a camera that enters along another path sees the map's
+  /// surfaces from where no keyframe was taken. Off: keyframes only.
+  bool map_search = true;
+  loop::DistanceFieldOptions distance_field;
+  loop::GlobalSearchOptions search;
 
   /// Throws vifusion::Error naming the field out of range.
   void validate() const;
@@ -84,6 +91,8 @@ class Relocaliser {
                                     double depth_gate_m) const;
   /// Drops every keyframe (a load that failed half-way).
   void reset() { database_.reset(); }
+  /// The block image of the last encoded frame (what the map search places, loop/global_place_search.hpp).
+  const loop::FernImage& frameImage() const { return frame_.image; }
   /// The keyframes and their ferns (what a saved map keeps: mapfile/map_sections.hpp).
   const loop::FernDatabase& database() const { return database_; }
   /// The block-averaging factor fern_image_width chose for this frame size.

@@ -33,6 +33,7 @@
 #include "vifusion/map/map_maintenance.hpp"
 #include "vifusion/map/model_prediction.hpp"
 #include "vifusion/map/surfel_fusion.hpp"
+#include "vifusion/mapfile/map_sections.hpp"
 #include "vifusion/slam/dense_terms_options.hpp"
 #include "vifusion/slam/dense_tracker.hpp"
 #include "vifusion/slam/loop_closure.hpp"
@@ -151,6 +152,14 @@ struct FrameResult {
   /// A `relocalised` frame's agreement with the keyframe it was placed by, image to image
   /// (loop/keyframe_agreement.hpp): a diagnostic of the place verification, not a test of it. Zeros otherwise.
   loop::KeyframeAgreement place_agreement;
+  /// A frame of a loaded map's camera that the keyframes did not place, searched for in the whole map
+  /// (Slam::searchMap): the distinct places the search proposed, and how many of them the dense verification
+  /// passed (more than one distinct: ambiguous, not located). 0 when no search ran.
+  int map_search_hypotheses = 0;
+  int map_search_verified = 0;
+  /// The best hypothesis's cost and inlier share (loop::PlaceHypothesis); 1 and 0 when no search ran.
+  double map_search_cost = 1.0;
+  double map_search_inliers = 0.0;
 
   /// Not fused, and the pose is no more than a guess.
   bool lost() const { return tracking == TrackingState::kLost; }
@@ -239,8 +248,20 @@ class Slam {
   void closeLoop(FrameResult& result);
   void startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu, const NavState* previous,
                       FrameResult& result);
+  /// For a loaded map's camera in the inertial modes, when the keyframes did not place the frame: the whole map
+  /// searched for it (loop/global_place_search.hpp; "up" from the accelerometer over the estimator's gravity
+  /// window), each distinct hypothesis tracked against every stable surfel rendered there (a place guess) with
+  /// the tests of a frame that ends a loss. True, with `tracking` relative to T_W_place, when exactly one place
+  /// passes: a frame two places explain (a room's symmetric corners) waits for a view that tells them apart.
+  bool searchMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, TrackingResult& tracking, SE3d& T_W_place,
+                 FrameResult& result);
+  /// At loadMap in the inertial modes: the search's distance field from the saved stable surfels, its heights from
+  /// the saved trajectory, "up" from the saved gravity direction.
+  void prepareMapSearch(std::span<const Eigen::Vector3f> surfaces_W, std::span<const mapfile::StampedPose> trajectory,
+                        const NavState& state);
   /// A frame of a run that started from a loaded map and is not located yet: relocalise() against the saved
-  /// keyframes; on success the frame is tracked at the place found and the estimator starts there.
+  /// keyframes, then searchMap(); on success the frame is tracked at the place found and the estimator starts
+  /// there.
   void locateInLoadedMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, FrameResult& result);
 
   SlamMode mode_;
@@ -277,6 +298,10 @@ class Slam {
   double place_depth_gate_m_ = 0.0;          ///< the ICP's association gate, for place_agreement_
   bool mapping_ = true;                      ///< SlamOptions::mapping
   std::optional<NavState> loaded_state_;     ///< the loaded map's estimator state: gravity and biases to start from
+  RelocalisationOptions relocalisation_;     ///< SlamOptions::relocalisation (the map search's settings)
+  double min_depth_m_ = 0.0;                 ///< the depth gate's near end [m]: the search's camera clearance
+  std::unique_ptr<loop::GlobalPlaceSearch> map_search_;  ///< after loadMap in the inertial modes
+  std::vector<Eigen::Vector3d> map_search_points_;       ///< a frame's block points, sized at loadMap
   /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last
   /// tracked one (the map's view the camera is most likely to come back to).
   SE3d T_W_reference_;

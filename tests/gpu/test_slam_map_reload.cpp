@@ -4,6 +4,7 @@
 // for another camera is refused by name, and the Slam then runs as a fresh one.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
@@ -27,7 +28,9 @@ using test::GpuTest;
 constexpr std::int64_t kFramePeriod_ns = 33'333'333;
 
 std::string temporaryMap(const std::string& name) {
-  const std::filesystem::path directory = std::filesystem::path(::testing::TempDir()) / "vifusion_reload";
+  // One directory per process: ctest runs the plain, validation and no-subgroups variants of a test at once.
+  const std::filesystem::path directory =
+      std::filesystem::path(::testing::TempDir()) / ("vifusion_reload_" + std::to_string(::getpid()));
   std::filesystem::create_directories(directory);
   return (directory / name).string();
 }

@@ -121,6 +121,8 @@ class MapRig {
     prediction_.setView(T_C_W, frame);
     predict_->run();
   }
+  /// The prediction with the view the caller set (prediction().setView).
+  void runPrediction() { predict_->run(); }
   void cleanup(const SE3d& T_C_W) {
     maintenance_.setView(T_C_W, kFrame);
     cleanup_->run();

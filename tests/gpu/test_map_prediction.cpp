@@ -262,6 +262,61 @@ TEST_P(MapPredictionTest, InactivePredictionIgnoresTheYoungMapRule) {
   EXPECT_EQ(won[static_cast<std::size_t>(Activity::ActiveUnstable)], 0u);
 }
 
+// One submission's selection (ModelPrediction::setView with a SurfelSelection): the inactive instance showing only
+// the surfels created before a frame — a loaded map's, for their reactivation while the camera maps on — and the
+// active instance showing every stable surfel (a camera entering a saved map is verified against the whole map),
+// each exactly as its CPU reference; a selection that would change an instance's buffers' meaning is refused.
+TEST_P(MapPredictionTest, OneSubmissionsSelectionRendersOnlyItsSurfels) {
+  test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
+  frame.camera.fy *= GetParam().fy_sign;
+  std::vector<Surfel> surfels = surfelsFromFrame(frame, frameGeometry(frame), 20.0f);
+  constexpr std::uint32_t kLoadedUntil = 100;  // the first frame of the run that loaded the map
+  constexpr std::uint32_t kInactiveAge = 300;  // > δ_t = 200
+  for (std::size_t i = 0; i < surfels.size(); ++i) {
+    // Every surfel inactive and stable; the even ones the loaded map's, the odd ones mapped since.
+    surfels[i].colour_times.y() = static_cast<float>(i % 2 == 0 ? kLoadedUntil - 1 : kLoadedUntil);
+    surfels[i].colour_times.z() = static_cast<float>(kFrame - kInactiveAge);
+  }
+  const SE3d T_C_W = frame.T_W_C.inverse();
+  map::PredictionOptions options;
+  options.surfels = map::PredictedSurfels::kInactive;
+  MapRig rig(context(), 400'000, frame.camera, options);
+  rig.writeMap(surfels);
+  map::SurfelSelection loaded;
+  loaded.surfels = map::PredictedSurfels::kInactive;
+  loaded.created_before = kLoadedUntil;
+  rig.prediction().setView(T_C_W, kFrame, loaded);
+  rig.runPrediction();
+  map::PredictionParams params = rig.prediction().makeParams(T_C_W, kFrame);
+  EXPECT_EQ(params.created_before, map::kAnyCreationFrame);
+  params.created_before = kLoadedUntil;
+  expectPredictionMatchesCpu(rig, surfels, params);
+  const ImageView<const std::uint32_t> ids = rig.image<std::uint32_t>(rig.ids());
+  std::size_t loaded_won = 0, later_won = 0;
+  for (int y = 0; y < ids.height; ++y) {
+    for (int x = 0; x < ids.width; ++x) {
+      if (ids(x, y) == map::kNoSurfel) continue;
+      ++(ids(x, y) % 2 == 0 ? loaded_won : later_won);
+    }
+  }
+  EXPECT_GE(loaded_won, pixelCount(frame.camera) / 4);
+  EXPECT_EQ(later_won, 0u);
+
+  map::SurfelSelection every_stable;
+  every_stable.surfels = map::PredictedSurfels::kStable;
+  test::expectError([&] { rig.prediction().setView(T_C_W, kFrame, every_stable); },
+                    "only the inactive instance renders the inactive surfels, and only them");
+  MapRig active_rig(context(), 400'000, frame.camera, map::PredictionOptions{});
+  active_rig.writeMap(surfels);
+  active_rig.prediction().setView(T_C_W, kFrame, every_stable);
+  active_rig.runPrediction();
+  params = active_rig.prediction().makeParams(T_C_W, kFrame);
+  params.surfels = static_cast<std::uint32_t>(map::PredictedSurfels::kStable);
+  expectPredictionMatchesCpu(active_rig, surfels, params);
+  test::expectError([&] { active_rig.prediction().setView(T_C_W, kFrame, loaded); },
+                    "only the inactive instance renders the inactive surfels, and only them");
+}
+
 TEST(PredictionOptions, ValidateNamesTheSurfelsField) {
   EXPECT_EQ(map::PredictionOptions{}.surfels, map::PredictedSurfels::kActive);
   map::PredictionOptions options;

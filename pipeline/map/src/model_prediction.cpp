@@ -152,12 +152,13 @@ void ModelPrediction::setView(const SE3d& T_C_W, std::uint32_t frame) const {
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
 }
 
-void ModelPrediction::setView(const SE3d& T_C_W, std::uint32_t frame, PredictedSurfels surfels) const {
-  if (options_.surfels == PredictedSurfels::kInactive || surfels == PredictedSurfels::kInactive) {
-    throw Error("model prediction: the inactive model's selection is fixed (its own buffers)");
+void ModelPrediction::setView(const SE3d& T_C_W, std::uint32_t frame, const SurfelSelection& selection) const {
+  if ((options_.surfels == PredictedSurfels::kInactive) != (selection.surfels == PredictedSurfels::kInactive)) {
+    throw Error("model prediction: only the inactive instance renders the inactive surfels, and only them");
   }
   PredictionParams params = makeParams(T_C_W, frame);
-  params.surfels = static_cast<std::uint32_t>(surfels);
+  params.surfels = static_cast<std::uint32_t>(selection.surfels);
+  params.created_before = selection.created_before;
   std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
 }
 

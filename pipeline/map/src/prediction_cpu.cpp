@@ -27,6 +27,7 @@ std::uint32_t splatKey(const Footprint& f, int x, int y, float depth_m) {
 bool isRendered(const Surfel& surfel, const PredictionParams& params) {
   const bool active = framesSinceCpu(params.view, surfel.colour_times.z()) <= params.time_window_frames;
   const bool stable = surfel.position_confidence.w() >= params.confidence_threshold;
+  if (!(static_cast<std::uint32_t>(surfel.colour_times.y()) < params.created_before)) return false;
   if (params.surfels == static_cast<std::uint32_t>(PredictedSurfels::kInactive)) return !active && stable;
   if (params.surfels == static_cast<std::uint32_t>(PredictedSurfels::kStable)) return stable;
   return active && (stable || params.view.frame < params.young_map_frames);

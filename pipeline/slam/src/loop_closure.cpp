@@ -163,8 +163,11 @@ void LoopClosure::build(const gpu::MemoryArena& arena) {
   reactivation_->apply(0);
 }
 
-void LoopClosure::reactivateInView(const SE3d& T_W_C, std::uint32_t frame) {
-  inactive_->setView(T_W_C.inverse(), frame);
+void LoopClosure::reactivateInView(const SE3d& T_W_C, std::uint32_t frame, std::uint32_t created_before) {
+  map::SurfelSelection selection;
+  selection.surfels = map::PredictedSurfels::kInactive;
+  selection.created_before = created_before;
+  inactive_->setView(T_W_C.inverse(), frame, selection);
   render_inactive_[map_.current()]->run();
   reactivation_->apply(frame);
 }

@@ -59,17 +59,19 @@ bool Slam::searchMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, Trac
   const Eigen::Vector3d up_C = gravity->q_I_W.conjugate() * Eigen::Vector3d::UnitZ();
   const int n = loop::blockPoints(relocaliser_->frameImage(), prediction_->camera(0), relocaliser_->downsampleFactor(),
                                   map_search_points_);
-  const std::span<const loop::PlaceHypothesis> hypotheses =
-      map_search_->search(std::span<const Eigen::Vector3d>(map_search_points_).first(n), up_C);
+  const std::span<const Eigen::Vector3d> points = std::span<const Eigen::Vector3d>(map_search_points_).first(n);
+  const std::span<const loop::PlaceHypothesis> hypotheses = map_search_->search(points, up_C);
   result.map_search_hypotheses = static_cast<int>(hypotheses.size());
   if (hypotheses.empty()) return false;
   result.map_search_cost = hypotheses.front().cost;
   result.map_search_inliers = hypotheses.front().inlier_share;
   const TrackerOptions& options = tracker_->options();
+  // Every stable surfel, whatever its age: the saved map as a whole, not one time of it.
+  map::SurfelSelection every_stable;
+  every_stable.surfels = map::PredictedSurfels::kStable;
   std::optional<SE3d> located;  // the first verified place's camera
   for (const loop::PlaceHypothesis& hypothesis : hypotheses) {
-    // Every stable surfel, whatever its age: the saved map as a whole, not one time of it.
-    prediction_->setView(hypothesis.T_W_C.inverse(), frame_index_, map::PredictedSurfels::kStable);
+    prediction_->setView(hypothesis.T_W_C.inverse(), frame_index_, every_stable);
     predict_only_[map_->current()]->run();
     const TrackingResult at = tracker_->track(SE3d(), ReferencePixels::kMap, TrackingGuess::kPlace);
     if (at.lost || !tracker_->explainsFrame(at)) continue;

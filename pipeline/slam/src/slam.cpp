@@ -455,6 +455,13 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
       const PoseVariance variance = PoseVariance::of(result.state_variance);
       uncertainty = {variance.position_m2, variance.rotation_rad2};
     }
+    if (map_loaded_ && result.tracking == TrackingState::kTracked && !result.relocalised) {
+      // The loaded map's surfels this frame sees again come back before it is fused, so that it fuses into them
+      // instead of mapping the place a second time beside them (the tracker then follows them: the saved map is
+      // the reference wherever it reaches). This run's own surfels still return only by a loop closure, which
+      // corrects this run's drift first.
+      loop_closure_->reactivateInView(result.T_W_C, frame_index_, first_frame_index_);
+    }
     fusion_->setFrame(result.T_W_C, frame_index_, uncertainty);
     maintenance_->setView(T_C_W, frame_index_);
     update_[parity]->run();

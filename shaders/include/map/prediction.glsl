@@ -12,6 +12,8 @@
 //     has no inactive surfels worth closing a loop on, and unstable ones are never rendered here.
 //   kPredictStable (localisation-only tracking's model): STABLE, whatever the age. Nothing is fused in
 //     that mode, so no surfel is ever updated and "active" would empty the model within δ_t frames.
+// and, whatever the set, CREATED before PredictionParams.created_before (0xffffffff: all): a loaded map's own
+// surfels, shown by the inactive model for their reactivation while the camera maps in it (slam/slam.hpp).
 //
 // How: each surfel is a disk of radius r_eff = max(r, one pixel's footprint at its depth) — so
 // that every rendered surfel covers at least its centre pixel. Its footprint is the pixel box
@@ -41,7 +43,7 @@ struct PredictionParams {
   float max_depth_m;           // nor farther than this [m]
   int max_half_footprint_px;   // footprint cap: (2·cap + 1)² pixels
   uint surfels;                // which surfels: kPredictActive, kPredictInactive or kPredictStable
-  uint pad1;
+  uint created_before;         // and of those only surfels created before this frame (0xffffffff: all)
 };
 
 // PredictionParams.surfels (vifusion::map::PredictedSurfels).
@@ -56,6 +58,7 @@ bool isRendered(Surfel surfel, PredictionParams params) {
   // ("active" is a reserved word in GLSL.)
   const bool is_active = framesSince(params.view, surfel.colour_times.z) <= params.time_window_frames;
   const bool is_stable = surfel.position_confidence.w >= params.confidence_threshold;
+  if (!(uint(surfel.colour_times.y) < params.created_before)) return false;
   if (params.surfels == kPredictInactive) return !is_active && is_stable;
   if (params.surfels == kPredictStable) return is_stable;
   return is_active && (is_stable || params.view.frame < params.young_map_frames);

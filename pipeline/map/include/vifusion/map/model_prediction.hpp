@@ -33,6 +33,12 @@
 
 namespace vifusion::map {
 
+/// Which surfels one submission renders (ModelPrediction::setView): PredictionParams' surfels and created_before.
+struct SurfelSelection {
+  PredictedSurfels surfels = PredictedSurfels::kActive;
+  std::uint32_t created_before = kAnyCreationFrame;  ///< only surfels created before this frame
+};
+
 struct PredictionOptions {
   int levels = 3;  ///< pyramid levels of the model maps, as the preprocessing pyramids
   /// Which surfels this instance renders (prediction.glsl states the rules). Fixed at construction:
@@ -75,10 +81,12 @@ class ModelPrediction {
   PredictionParams makeParams(const SE3d& T_C_W, std::uint32_t frame) const;
   /// Writes them for the next submission (host, no allocation).
   void setView(const SE3d& T_C_W, std::uint32_t frame) const;
-  /// The same, rendering `surfels` instead of the instance's own selection for this one submission: a camera
-  /// entering a saved map is verified against every stable surfel (kStable) by the active instance, whose
-  /// buffers the tracker reads. Only kActive and kStable share the instance's buffers' meaning.
-  void setView(const SE3d& T_C_W, std::uint32_t frame, PredictedSurfels surfels) const;
+  /// The same with another selection for this one submission: a camera entering a saved map is verified against
+  /// every stable surfel (kStable) by the active instance, whose buffers the tracker reads; the inactive
+  /// instance shows a loaded map's surfels only (created_before its first frame) for their reactivation. The
+  /// inactive instance's selection stays kInactive, and the active one's is never kInactive (their buffers'
+  /// meanings). @throws vifusion::Error for such a selection
+  void setView(const SE3d& T_C_W, std::uint32_t frame, const SurfelSelection& selection) const;
 
   /// Records the prediction from surfel array `parity` (MapBuffers::current() when it runs),
   /// ending with a compute barrier that makes the model maps visible to later kernels and copies.

@@ -41,6 +41,9 @@ enum class PredictedSurfels : std::uint32_t {
   kStable = 2,    ///< every stable surfel, whatever its age: localisation-only tracking's model (nothing fuses)
 };
 
+/// PredictionParams::created_before that keeps every surfel.
+inline constexpr std::uint32_t kAnyCreationFrame = 0xffffffffu;
+
 /// PredictionParams in prediction.glsl.
 struct PredictionParams {
   MapView view;
@@ -51,12 +54,13 @@ struct PredictionParams {
   float max_depth_m = 0;                   ///< nor farther ones [m]
   std::int32_t max_half_footprint_px = 0;  ///< footprint cap: (2·cap + 1)² pixels
   std::uint32_t surfels = static_cast<std::uint32_t>(PredictedSurfels::kActive);  ///< a PredictedSurfels value
-  std::uint32_t pad = 0;
+  std::uint32_t created_before = kAnyCreationFrame;  ///< and only surfels created before this frame
 };
 static_assert(sizeof(PredictionParams) == 128);
 static_assert(offsetof(PredictionParams, confidence_threshold) == 96);
 static_assert(offsetof(PredictionParams, max_half_footprint_px) == 116);
 static_assert(offsetof(PredictionParams, surfels) == 120);
+static_assert(offsetof(PredictionParams, created_before) == 124);
 
 /// "No surfel" in the splat id image (kNoSurfel in prediction.glsl).
 inline constexpr std::uint32_t kNoSurfel = 0xffffffffu;

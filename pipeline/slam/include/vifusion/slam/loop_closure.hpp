@@ -137,11 +137,12 @@ class LoopClosure {
   /// E_imu, or nullopt (rgbd). The caller then moves its poses (deformPose) and re-renders the active prediction.
   ClosureReport tryClose(const SE3d& T_W_C, std::uint32_t frame, const std::optional<Eigen::Vector3d>& g_W);
 
+  /// Makes the inactive surfels in view at T_W_C that were created before `created_before` active in `frame`, as
+  /// an agreed closure does, without a registration: for a camera just located in a loaded map (map_loading.hpp),
+  /// whose surfels have aged past the time window, and then on every tracked frame for the loaded map's surfels
+  /// it sees again. Renders the inactive model, so the caller renders the active prediction again after it.
+  void reactivateInView(const SE3d& T_W_C, std::uint32_t frame, std::uint32_t created_before = map::kAnyCreationFrame);
   /// A pose of frame `frame` moved by the last accepted deformation (identity before any).
-  /// Makes the inactive surfels in view at T_W_C active in `frame`, as an agreed closure does, without a
-  /// registration: for a camera just located in a loaded map (map_loading.hpp), whose surfels have aged past the
-  /// time window. Renders the inactive model, so the caller renders the active prediction again after it.
-  void reactivateInView(const SE3d& T_W_C, std::uint32_t frame);
   SE3d deformPose(const SE3d& T_W_C, std::uint32_t frame) const;
 
   const LoopClosureOptions& options() const { return options_; }

@@ -16,6 +16,17 @@ namespace {
 /// off; a place of the same shape elsewhere — a room's other corner — has the geometry and not the colours.
 constexpr double kMinPhotometricShareOfIcpInliers = 0.5;
 
+/// ... and fit the map's surfaces as closely as two measurements of one surface do: the ICP's mean normalised
+/// squared residual (TrackingResult::icp_energy, in units of the frame's depth noise σ_z²) at most what a frame
+/// and a model that each measure the surface to σ_z give in expectation, σ_z² + σ_z². An alignment that settled
+/// beside the place (partly overlapping surfaces, a slide along a wall) keeps residuals of centimetres.
+constexpr double kMaxIcpEnergyOfOneSurface = 2.0;
+
+/// ... and the map must explain most of the frame: this share of its block points within the ICP's association
+/// gate of a saved surface at the verified pose. Where the map holds less of the view, the part it does hold (a
+/// wall, a corner) fits many places, and nothing in the rest says which.
+constexpr double kMinExplainedShare = 0.5;
+
 }  // namespace
 
 void Slam::prepareMapSearch(std::span<const Eigen::Vector3f> surfaces_W,
@@ -76,7 +87,9 @@ bool Slam::searchMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, Trac
     const TrackingResult at = tracker_->track(SE3d(), ReferencePixels::kMap, TrackingGuess::kPlace);
     if (at.lost || !tracker_->explainsFrame(at)) continue;
     if (at.rgb_inliers < kMinPhotometricShareOfIcpInliers * at.icp_inliers) continue;
+    if (!(at.icp_energy <= kMaxIcpEnergyOfOneSurface)) continue;
     const SE3d T_W_C = hypothesis.T_W_C * at.T_ref_cur;
+    if (map_search_->evaluate(points, T_W_C).inlier_share < kMinExplainedShare) continue;
     if (located) {
       const SE3d delta = located->inverse() * T_W_C;
       const bool same = delta.translation().norm() <= options.max_place_correction_m &&

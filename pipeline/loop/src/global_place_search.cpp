@@ -27,13 +27,6 @@ constexpr double kTruncationShrink = 0.5;
 /// independent residuals at the very least.
 constexpr int kMinStepPoints = 6;
 
-/// Whether two poses are one place for the dense verification: within one grid step and one yaw step.
-bool samePlace(const SE3d& a, const SE3d& b, const SearchSpace& space) {
-  const SE3d delta = a.inverse() * b;
-  return delta.translation().norm() <= space.position_step_m &&
-         Eigen::AngleAxisd(delta.quaternion()).angle() <= space.yaw_step_rad;
-}
-
 }  // namespace
 
 void GlobalSearchOptions::validate() const {
@@ -119,6 +112,12 @@ GlobalPlaceSearch::GlobalPlaceSearch(SurfaceDistanceField field, const SearchSpa
   best_.resize(options.refined_poses);
   refined_.resize(options.refined_poses);
   hypotheses_.resize(options.hypotheses);
+}
+
+bool GlobalPlaceSearch::samePlace(const SE3d& a, const SE3d& b) const {
+  const SE3d delta = a.inverse() * b;
+  return delta.translation().norm() <= space_.position_step_m &&
+         Eigen::AngleAxisd(delta.quaternion()).angle() <= space_.yaw_step_rad;
 }
 
 PlaceHypothesis GlobalPlaceSearch::evaluate(std::span<const Eigen::Vector3d> points_C, const SE3d& T_W_C) const {
@@ -208,7 +207,7 @@ std::span<const PlaceHypothesis> GlobalPlaceSearch::search(std::span<const Eigen
   int distinct = 0;
   for (int i = 0; i < kept && distinct < options_.hypotheses; ++i) {
     bool seen = false;
-    for (int j = 0; j < distinct && !seen; ++j) seen = samePlace(refined_[i].T_W_C, hypotheses_[j].T_W_C, space_);
+    for (int j = 0; j < distinct && !seen; ++j) seen = samePlace(refined_[i].T_W_C, hypotheses_[j].T_W_C);
     if (!seen) hypotheses_[distinct++] = refined_[i];
   }
   return {hypotheses_.data(), static_cast<std::size_t>(distinct)};

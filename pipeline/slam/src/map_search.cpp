@@ -76,7 +76,6 @@ bool Slam::searchMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, Trac
   if (hypotheses.empty()) return false;
   result.map_search_cost = hypotheses.front().cost;
   result.map_search_inliers = hypotheses.front().inlier_share;
-  const TrackerOptions& options = tracker_->options();
   // Every stable surfel, whatever its age: the saved map as a whole, not one time of it.
   map::SurfelSelection every_stable;
   every_stable.surfels = map::PredictedSurfels::kStable;
@@ -91,10 +90,7 @@ bool Slam::searchMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, Trac
     const SE3d T_W_C = hypothesis.T_W_C * at.T_ref_cur;
     if (map_search_->evaluate(points, T_W_C).inlier_share < kMinExplainedShare) continue;
     if (located) {
-      const SE3d delta = located->inverse() * T_W_C;
-      const bool same = delta.translation().norm() <= options.max_place_correction_m &&
-                        Eigen::AngleAxisd(delta.quaternion()).angle() <= options.max_place_correction_rad;
-      if (!same) ++result.map_search_verified;
+      if (!map_search_->samePlace(*located, T_W_C)) ++result.map_search_verified;
       continue;
     }
     ++result.map_search_verified;

@@ -93,6 +93,9 @@ class GlobalPlaceSearch {
   /// The cost and inlier share of points_C at T_W_C (PlaceHypothesis's definitions). No allocation.
   PlaceHypothesis evaluate(std::span<const Eigen::Vector3d> points_C, const SE3d& T_W_C) const;
 
+  /// Whether two poses are one place: within one grid step and one yaw step (the dense verification's basin).
+  bool samePlace(const SE3d& a, const SE3d& b) const;
+
   const SurfaceDistanceField& field() const { return field_; }
   std::size_t gridPositions() const { return positions_W_.size(); }
   int gridYaws() const { return yaws_; }

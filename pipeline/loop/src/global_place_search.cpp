@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -99,10 +100,10 @@ GlobalPlaceSearch::GlobalPlaceSearch(SurfaceDistanceField field, const SearchSpa
     for (double a = box_min.x(); a <= box_max.x(); a += step) {
       for (double b = box_min.y(); b <= box_max.y(); b += step) {
         const Eigen::Vector3d p = a * east + b * north + h * up;
-        if (field_.distance(p) >= space.min_clearance_m && std::isfinite(field_.distance(p))) positions_W_.push_back(p);
+        const double clearance_m = field_.distance(p);  // infinity off the grid: no map to look at from there
+        if (clearance_m >= space.min_clearance_m && std::isfinite(clearance_m)) positions_W_.push_back(p);
       }
     }
-    if (space.max_height_m - space.min_height_m < step) break;  // one height layer covers the range
   }
   if (positions_W_.empty()) {
     throw Error("global place search: no camera position within the saved heights is clear of the map's surfaces");

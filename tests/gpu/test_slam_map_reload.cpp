@@ -70,6 +70,7 @@ TEST_F(GpuTest, ASavedMapIsReloadedRelocalisedIntoAndTrackedInItsOwnFrame) {
   EXPECT_EQ(loaded.mode, "rgbd");
   EXPECT_EQ(loaded.bytes, std::filesystem::file_size(path));
   EXPECT_EQ(slam.firstFrameIndex(), pan.frames.size());  // the saved clock's next frame
+  EXPECT_EQ(loaded.frames, pan.frames.size());
 
   // The second run starts a few frames into the pan and goes back and forth over it.
   constexpr std::size_t kStart = 4;
@@ -102,6 +103,14 @@ TEST_F(GpuTest, ASavedMapIsReloadedRelocalisedIntoAndTrackedInItsOwnFrame) {
   EXPECT_LT(worst_m, 0.01);
   // The same surfaces again: fused into the loaded surfels, not mapped a second time.
   EXPECT_LT(surfels, saved.surfels + saved.surfels / 10);
+
+  // Saved again, the map's clock counts both runs' frames, and a run that loads it continues the clock.
+  const std::string again = temporaryMap("pan_again.vifmap");
+  const std::vector<mapfile::StampedPose> no_poses;
+  slam::saveMap(slam, {slam::SlamMode::kRgbd, &calibration, no_poses, std::nullopt}, again);
+  slam::Slam third(context(), calibration, slam::SlamOptions{});
+  EXPECT_EQ(third.loadMap(again).frames, pan.frames.size() + kFrames);
+  EXPECT_EQ(third.firstFrameIndex(), pan.frames.size() + kFrames);
 }
 
 // Localisation only: the pan tracked against the loaded map in its frame, and the map on the GPU still the file's

@@ -29,12 +29,13 @@ void putSurfels(mapfile::MapFileWriter& writer, std::span<const map::Surfel> chu
 MapSaveReport writeSections(const std::string& path, SlamMode mode, const RigCalibration& calibration,
                             std::span<const mapfile::StampedPose> trajectory, const std::optional<NavState>& state,
                             const loop::FernDatabase* keyframes, const map::MapState& map_state,
+                            std::uint32_t frame_clock,
                             const std::function<std::uint32_t(mapfile::MapFileWriter&)>& put_surfels) {
   const auto start = std::chrono::steady_clock::now();
   mapfile::MapFileWriter writer(path);
   mapfile::MapMeta meta;
   meta.mode = slamModeName(mode);
-  meta.frames = static_cast<std::uint32_t>(trajectory.size());
+  meta.frames = frame_clock;
   if (!trajectory.empty()) {
     meta.first_t_ns = trajectory.front().t_ns;
     meta.last_t_ns = trajectory.back().t_ns;
@@ -69,7 +70,7 @@ void MapSnapshot::reserve(std::uint32_t surfel_capacity, std::size_t frames) {
 MapSaveReport saveMap(Slam& slam, const MapSaveInputs& inputs, const std::string& path) {
   if (inputs.calibration == nullptr) throw Error("map file " + path + ": saved without the calibration");
   return writeSections(path, inputs.mode, *inputs.calibration, inputs.trajectory, inputs.state, slam.keyframeDatabase(),
-                       slam.mapState(), [&slam](mapfile::MapFileWriter& writer) {
+                       slam.mapState(), slam.frameClock(), [&slam](mapfile::MapFileWriter& writer) {
                          return slam.visitMap([&writer](std::uint32_t, std::span<const map::Surfel> chunk) {
                            putSurfels(writer, chunk);
                          });
@@ -94,6 +95,7 @@ void captureMap(Slam& slam, const MapSaveInputs& inputs, MapSnapshot& snapshot) 
     snapshot.keyframes.reset();
   }
   snapshot.map_state = slam.mapState();
+  snapshot.frame_clock = slam.frameClock();
   slam.exportMap(snapshot.surfels);
   snapshot.capture_ms = millisecondsSince(start);
 }
@@ -101,7 +103,7 @@ void captureMap(Slam& slam, const MapSaveInputs& inputs, MapSnapshot& snapshot) 
 MapSaveReport writeMapFile(const MapSnapshot& snapshot, const std::string& path) {
   const loop::FernDatabase* keyframes = snapshot.keyframes ? &*snapshot.keyframes : nullptr;
   return writeSections(path, snapshot.mode, snapshot.calibration, snapshot.trajectory, snapshot.state, keyframes,
-                       snapshot.map_state, [&snapshot](mapfile::MapFileWriter& writer) {
+                       snapshot.map_state, snapshot.frame_clock, [&snapshot](mapfile::MapFileWriter& writer) {
                          const std::span<const map::Surfel> all(snapshot.surfels);
                          for (std::size_t first = 0; first < all.size(); first += kSnapshotChunkSurfels) {
                            putSurfels(writer, all.subspan(first, std::min(kSnapshotChunkSurfels, all.size() - first)));

@@ -3,8 +3,8 @@
 // Types: u8/u32/u64/i32/i64 little-endian integers, f32/f64 IEEE-754; str = u32 length + that many bytes;
 // pose = f64 qx qy qz qw tx ty tz (T_W_C: camera → W, unit quaternion).
 //
-//   meta      str mode ("rgbd", "rgbdi", "gyro") | u32 frames (the map's frame clock: surfel times count these)
-//             | i64 first frame t_ns | i64 last frame t_ns
+//   meta      str mode ("rgbd", "rgbdi", "gyro") | u32 frames (the map's frame clock: frames of every run that
+//             built it; surfel times count these) | i64 first frame t_ns | i64 last frame t_ns
 //   calib     colour camera: i32 width, i32 height, f64 fx fy cx cy | u8 depth camera present, then its camera
 //             (as above) and pose T_C_D | f64 depth_scale_m | f64 inverse_depth_bias_per_m | pose T_S_C |
 //             i64 time_shift_cam_imu_ns | IMU noise: f64 gyro_saturation accel_saturation gyro_noise_density
@@ -45,7 +45,7 @@ inline constexpr std::uint32_t kMaxModeNameBytes = 16;
 
 struct MapMeta {
   std::string mode;             ///< the SLAM mode that built it (slam::slamModeName)
-  std::uint32_t frames = 0;     ///< frames processed
+  std::uint32_t frames = 0;     ///< the frame clock: frames of every run that built the map
   std::int64_t first_t_ns = 0;  ///< the first frame's time [ns]
   std::int64_t last_t_ns = 0;   ///< the last frame's time [ns]
   bool operator==(const MapMeta&) const = default;

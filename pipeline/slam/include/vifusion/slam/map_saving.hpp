@@ -50,6 +50,7 @@ struct MapSnapshot {
   std::optional<NavState> state;
   std::optional<loop::FernDatabase> keyframes;  ///< nullopt: the Slam keeps none (relocalisation off)
   map::MapState map_state;
+  std::uint32_t frame_clock = 0;     ///< Slam::frameClock() at the capture
   std::vector<map::Surfel> surfels;  ///< map_state.surfel_count of them
   double capture_ms = 0.0;           ///< wall time captureMap held its caller [ms]
 

@@ -191,6 +191,8 @@ class Slam {
   /// The frame clock's value at this run's first frame: 0, or after loadMap the saved clock's next frame. Frame
   /// i of this run is frame firstFrameIndex() + i for deformPose.
   std::uint32_t firstFrameIndex() const { return first_frame_index_; }
+  /// The frame clock's next value: frames of every run that built the map, this one's so far included.
+  std::uint32_t frameClock() const { return frame_index_; }
   /// A loaded map's camera is not located yet (FrameResult::relocalising).
   bool relocalising() const { return relocalising_; }
 

@@ -20,10 +20,8 @@
 #include "vifusion/loop/deformation_graph.hpp"
 #include "vifusion/map/maintenance_cpu.hpp"
 #include "vifusion/map/map_buffers.hpp"
-#include "vifusion/map/map_export.hpp"
 #include "vifusion/map/map_sampling.hpp"
 #include "vifusion/map/model_prediction.hpp"
-#include "vifusion/map/surfel_reactivation.hpp"
 #include "vifusion/test/counting_allocations.hpp"
 #include "vifusion/test/expect_error.hpp"
 
@@ -152,9 +150,7 @@ class SamplingRig {
         inactive_(context, plan_, map_, kCamera, predictionOptions(map::PredictedSurfels::kInactive)),
         sampling_(context, plan_, map_, options),
         active_gather_(context, plan_, map_, active_, options),
-        inactive_gather_(context, plan_, map_, inactive_, options),
-        reactivation_(context, plan_, map_, inactive_),
-        export_(context, plan_, map_) {
+        inactive_gather_(context, plan_, map_, inactive_, options) {
     const std::uint64_t surfel_bytes = std::uint64_t{capacity} * sizeof(Surfel);
     const std::uint64_t id_bytes = std::uint64_t(kCamera.width) * std::uint64_t(kCamera.height) * 4;
     upload_ = plan_.addBuffer("test.surfels", surfel_bytes, gpu::MemoryUse::Upload);
@@ -166,8 +162,6 @@ class SamplingRig {
     sampling_.build(*arena_);
     active_gather_.build(*arena_);
     inactive_gather_.build(*arena_);
-    reactivation_.build(*arena_);
-    export_.build(*arena_);
     map_.reset(*arena_);
     for (int parity = 0; parity < 2; ++parity) {
       uploads_[parity] = gpu::CommandSequence::create(context, "upload " + std::to_string(parity));
@@ -201,7 +195,6 @@ class SamplingRig {
     state.active_begin = active_begin;
     std::memcpy(buffer(map_.state()).mapped, &state, sizeof(state));
   }
-  map::MapState mapState() const { return map_.readState(*arena_); }
   /// Both predictions of the current array, camera at the origin of W looking along +z.
   void predict() {
     active_.setView(SE3d(), kFrame);
@@ -221,19 +214,6 @@ class SamplingRig {
     return set == map::PredictedSurfels::kActive ? active_ : inactive_;
   }
   const gpu::CapacityPlan& plan() const { return plan_; }
-  map::SurfelReactivation& reactivation() { return reactivation_; }
-  std::vector<Surfel> surfels() {
-    std::vector<Surfel> out;
-    export_.read(out);
-    return out;
-  }
-  /// The live surfels of the other array (the export reads the current one).
-  std::vector<Surfel> otherSurfels() {
-    map_.flip();
-    std::vector<Surfel> out = surfels();
-    map_.flip();
-    return out;
-  }
 
  private:
   const gpu::GpuBuffer& buffer(gpu::BufferId id) const { return arena_->buffer(id); }
@@ -245,116 +225,12 @@ class SamplingRig {
   map::MapSampling sampling_;
   map::PredictionGather active_gather_;
   map::PredictionGather inactive_gather_;
-  map::SurfelReactivation reactivation_;
-  map::MapExport export_;
   gpu::BufferId upload_, active_ids_, inactive_ids_;
   std::unique_ptr<gpu::MemoryArena> arena_;
   std::unique_ptr<gpu::CommandSequence> uploads_[2], predictions_[2];
 };
 
 class MapSamplingTest : public test::GpuTest {};
-
-// Reactivation after a closure: exactly the surfels that won a pixel of the inactive prediction get the current
-// frame as their last update (GPU against reactivateSurfelsCpu, bit for bit), and the active prediction renders
-// them from then on.
-TEST_F(MapSamplingTest, ReactivationMakesTheInactiveSurfelsInViewActive) {
-  const std::vector<Surfel> wall = wallSurfels();
-  const auto count = static_cast<std::uint32_t>(wall.size());
-  SamplingRig rig(context(), count, smallOptions());
-  rig.writeArray(0, wall);
-  rig.setMap(0, count);
-  rig.predict();
-  std::vector<Surfel> expected = wall;
-  map::reactivateSurfelsCpu(expected, rig.ids(map::PredictedSurfels::kInactive), kFrame);
-  int reactivated = 0;
-  for (std::size_t i = 0; i < wall.size(); ++i) {
-    reactivated += expected[i].colour_times.z() != wall[i].colour_times.z() ? 1 : 0;
-  }
-  ASSERT_GT(reactivated, 100) << "the inactive stable blocks are in view";
-  rig.reactivation().apply(kFrame);
-  const std::vector<Surfel> gpu = rig.surfels();
-  ASSERT_EQ(gpu.size(), expected.size());
-  EXPECT_EQ(0, std::memcmp(gpu.data(), expected.data(), gpu.size() * sizeof(Surfel)));
-
-  // The next prediction: the reactivated surfels are active now, and the inactive model is empty.
-  rig.writeArray(0, gpu);
-  rig.predict();
-  int inactive_pixels = 0, reactivated_pixels = 0;
-  const ImageView<const std::uint32_t> active_ids = rig.ids(map::PredictedSurfels::kActive);
-  const ImageView<const std::uint32_t> inactive_ids = rig.ids(map::PredictedSurfels::kInactive);
-  for (int y = 0; y < kCamera.height; ++y) {
-    for (int x = 0; x < kCamera.width; ++x) {
-      inactive_pixels += inactive_ids(x, y) != map::kNoSurfel ? 1 : 0;
-      const std::uint32_t id = active_ids(x, y);
-      if (id != map::kNoSurfel && wall[id].colour_times.z() != gpu[id].colour_times.z()) ++reactivated_pixels;
-    }
-  }
-  EXPECT_EQ(inactive_pixels, 0);
-  EXPECT_GT(reactivated_pixels, 100);
-}
-
-// Reactivation in a map whose inactive surfels form the prefix (as after maintenance): the reactivated ones move
-// into the active range and the prefix shrinks by their number, so the next frame visits them without visiting
-// the whole map. GPU against the CPU references (mark, plan, move), bit for bit, in both arrays; and from first
-// principles: nothing lost or duplicated, every surfel that won an inactive pixel above the new prefix's end,
-// nothing reactivated left in it, and the prefix the same in both arrays.
-TEST_F(MapSamplingTest, ReactivatedSurfelsLeaveTheInactivePrefix) {
-  const std::vector<Surfel> wall = wallSurfels();
-  std::vector<Surfel> map_order;  // inactive first: the prefix
-  for (const bool inactive : {true, false}) {
-    for (const Surfel& s : wall) {
-      if ((kFrame - s.colour_times.z() > 200.0f) == inactive) map_order.push_back(s);
-    }
-  }
-  const auto count = static_cast<std::uint32_t>(map_order.size());
-  const auto prefix = static_cast<std::uint32_t>(
-      std::count_if(wall.begin(), wall.end(), [](const Surfel& s) { return kFrame - s.colour_times.z() > 200.0f; }));
-  SamplingRig rig(context(), count, smallOptions());
-  rig.writeArray(0, map_order);
-  rig.writeArray(1, map_order);
-  rig.setMap(0, count, kFrame, prefix);
-  rig.predict();
-
-  const ImageView<const std::uint32_t> ids = rig.ids(map::PredictedSurfels::kInactive);
-  const std::vector<std::uint32_t> id_list(ids.data, ids.data + ids.width * ids.height);
-  std::vector<Surfel> expected = map_order;
-  map::reactivateSurfelsCpu(expected, ids, kFrame);
-  std::vector<std::uint32_t> scratch(id_list.size());
-  std::vector<map::ReactivationMove> moves(id_list.size());
-  const map::ReactivationPlan plan = map::planReactivationMoves(id_list, prefix, scratch, moves);
-  std::vector<Surfel> expected_other = map_order;
-  map::applyReactivationMovesCpu(expected, expected_other, std::span(moves.data(), plan.moves));
-  ASSERT_GT(prefix - plan.active_begin, 100u) << "the inactive blocks are in view";
-  ASSERT_GT(plan.moves, 0u) << "some reactivated surfels sit below the new prefix end";
-
-  EXPECT_EQ(rig.reactivation().apply(kFrame), prefix - plan.active_begin);
-  EXPECT_EQ(rig.mapState().active_begin, plan.active_begin);
-  EXPECT_EQ(rig.mapState().surfel_count, count);
-  const std::vector<Surfel> gpu = rig.surfels();
-  const std::vector<Surfel> other = rig.otherSurfels();
-  ASSERT_EQ(gpu.size(), expected.size());
-  EXPECT_EQ(0, std::memcmp(gpu.data(), expected.data(), gpu.size() * sizeof(Surfel)));
-  EXPECT_EQ(0, std::memcmp(other.data(), expected.data(), plan.active_begin * sizeof(Surfel))) << "prefix in both";
-
-  // First principles, on the GPU's result.
-  const auto less = [](const Surfel& a, const Surfel& b) { return std::memcmp(&a, &b, sizeof(Surfel)) < 0; };
-  std::vector<Surfel> before = map_order;
-  std::vector<Surfel> after = gpu;
-  for (Surfel& s : before) s.colour_times.z() = 0.0f;  // the mark is the one change allowed
-  for (Surfel& s : after) s.colour_times.z() = 0.0f;
-  std::sort(before.begin(), before.end(), less);
-  std::sort(after.begin(), after.end(), less);
-  EXPECT_EQ(0, std::memcmp(before.data(), after.data(), before.size() * sizeof(Surfel))) << "nothing lost";
-  std::uint32_t reactivated_above = 0;
-  for (std::uint32_t i = 0; i < count; ++i) {
-    const bool reactivated = gpu[i].colour_times.z() == static_cast<float>(kFrame);  // active ones: kFrame − 3
-    if (i < plan.active_begin) {
-      EXPECT_FALSE(reactivated) << "slot " << i << " left in the prefix";
-    }
-    reactivated_above += reactivated ? 1 : 0;
-  }
-  EXPECT_EQ(reactivated_above, prefix - plan.active_begin) << "every reactivated surfel in the active range";
-}
 
 TEST_F(MapSamplingTest, NodeSamplesMatchTheCpuReferenceFromEitherArray) {
   const std::vector<Surfel> grown = grownMap(120, 11);

@@ -24,15 +24,6 @@ std::uint32_t splatKey(const Footprint& f, int x, int y, float depth_m) {
   return disk_only | (std::bit_cast<std::uint32_t>(depth_m) >> 1);
 }
 
-bool isRendered(const Surfel& surfel, const PredictionParams& params) {
-  const bool active = framesSinceCpu(params.view, surfel.colour_times.z()) <= params.time_window_frames;
-  const bool stable = surfel.position_confidence.w() >= params.confidence_threshold;
-  if (!(static_cast<std::uint32_t>(surfel.colour_times.y()) < params.created_before)) return false;
-  if (params.surfels == static_cast<std::uint32_t>(PredictedSurfels::kInactive)) return !active && stable;
-  if (params.surfels == static_cast<std::uint32_t>(PredictedSurfels::kStable)) return stable;
-  return active && (stable || params.view.frame < params.young_map_frames);
-}
-
 CameraSurfel toCamera(const Surfel& surfel, const MapView& view) {
   CameraSurfel s;
   s.p_C = transformPointCpu(view, surfel.position_confidence.head<3>());
@@ -131,6 +122,15 @@ std::uint32_t framesSinceCpu(const MapView& view, float frame_f) {
   return view.frame >= frame ? view.frame - frame : 0u;
 }
 
+bool isRenderedCpu(const Surfel& surfel, const PredictionParams& params) {
+  const bool active = framesSinceCpu(params.view, surfel.colour_times.z()) <= params.time_window_frames;
+  const bool stable = surfel.position_confidence.w() >= params.confidence_threshold;
+  if (!(static_cast<std::uint32_t>(surfel.colour_times.y()) < params.created_before)) return false;
+  if (params.surfels == static_cast<std::uint32_t>(PredictedSurfels::kInactive)) return !active && stable;
+  if (params.surfels == static_cast<std::uint32_t>(PredictedSurfels::kStable)) return stable;
+  return active && (stable || params.view.frame < params.young_map_frames);
+}
+
 void splatModelCpu(std::span<const Surfel> surfels, const PredictionParams& params, ImageView<std::uint32_t> depth_bits,
                    ImageView<std::uint32_t> ids) {
   for (int y = 0; y < depth_bits.height; ++y) {
@@ -140,7 +140,7 @@ void splatModelCpu(std::span<const Surfel> surfels, const PredictionParams& para
   // One pass in index order with the (key, index) lexicographic minimum is what the GPU's
   // two atomic passes compute.
   for (std::size_t i = 0; i < surfels.size(); ++i) {
-    if (!isRendered(surfels[i], params)) continue;
+    if (!isRenderedCpu(surfels[i], params)) continue;
     const CameraSurfel s = toCamera(surfels[i], params.view);
     if (!(s.p_C.z() > params.min_depth_m && s.p_C.z() <= params.max_depth_m)) continue;
     const Footprint f = footprintOf(s, params);

@@ -1,6 +1,7 @@
 #include "vifusion/map/surfel_reactivation.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -11,56 +12,66 @@
 namespace vifusion::map {
 namespace {
 
-/// std430 mirror of map_reactivate.comp's ReactivateParams.
-struct ReactivateParams {
-  std::uint32_t pixel_count = 0;
-  std::uint32_t frame = 0;
-  std::uint32_t pad[2] = {};
-};
-
 /// std430 header of map_reactivate_move.comp's MovePlan; the moves follow it.
 struct MovePlanHeader {
   std::uint32_t move_count = 0;
   std::uint32_t pad[3] = {};
 };
 
-/// Workgroups of the grid-stride passes over the pixels and the moves (one invocation per pixel on a GPU at
-/// 640×480; at most one move per pixel).
+/// map_reactivate.comp's MarkedCount, padded to 16 bytes.
+constexpr std::uint64_t kMarkedCountBytes = 16;
+
+/// Workgroups of the grid-stride passes over the surfels and the moves.
 constexpr std::uint32_t kWorkgroups = 2400;
 constexpr std::uint32_t kWorkgroupSize = 128;
 
 }  // namespace
+
+ReactivateGates ReactivateGates::of(const FusionOptions& fusion, std::uint32_t capacity) {
+  ReactivateGates gates;
+  gates.max_depth_diff2_m2 = fusion.max_depth_diff_m * fusion.max_depth_diff_m;
+  gates.min_normal_cos = std::cos(fusion.max_normal_angle_rad);
+  gates.grazing_normal_z = fusion.grazing_normal_z;
+  gates.capacity = capacity;
+  return gates;
+}
 
 struct SurfelReactivation::Kernels {
   std::unique_ptr<gpu::ComputeKernel> reactivate;
   std::unique_ptr<gpu::ComputeKernel> move;
   gpu::BindingSet mark_sets[2];
   gpu::BindingSet move_sets[2];
-  std::unique_ptr<gpu::CommandSequence> mark[2];  ///< mark, then copy the ids for the plan
+  std::unique_ptr<gpu::CommandSequence> mark[2];  ///< mark, then copy the list for the plan
   std::unique_ptr<gpu::CommandSequence> moves[2];
 };
 
 SurfelReactivation::SurfelReactivation(gpu::GpuContext& context, gpu::CapacityPlan& plan, const MapBuffers& map,
-                                       const ModelPrediction& inactive)
-    : context_(context), map_(map), ids_(inactive.splatIds()) {
+                                       const ModelPrediction& inactive, const FusionOptions& fusion)
+    : context_(context), map_(map), inactive_(inactive) {
+  fusion.validate();
   const PinholeCamera& camera = inactive.camera(0);
-  pixels_ = static_cast<std::uint32_t>(camera.width) * static_cast<std::uint32_t>(camera.height);
-  params_ = plan.addBuffer("map_reactivate.params", sizeof(ReactivateParams), gpu::MemoryUse::Upload);
-  ids_readback_ =
-      plan.addBuffer("map_reactivate.ids", std::uint64_t{pixels_} * sizeof(std::uint32_t), gpu::MemoryUse::Readback);
-  move_plan_ =
-      plan.addBuffer("map_reactivate.moves", sizeof(MovePlanHeader) + std::uint64_t{pixels_} * sizeof(ReactivationMove),
-                     gpu::MemoryUse::Upload);
-  marked_slots_.resize(pixels_);
+  const auto pixels = static_cast<std::uint32_t>(camera.width) * static_cast<std::uint32_t>(camera.height);
+  gates_ = ReactivateGates::of(fusion, kReactivatedPerPixel * pixels);
+  const std::uint64_t list_bytes = std::uint64_t{gates_.capacity} * sizeof(std::uint32_t);
+  gates_buffer_ = plan.addBuffer("map_reactivate.gates", sizeof(ReactivateGates), gpu::MemoryUse::Upload);
+  marked_count_ = plan.addBuffer("map_reactivate.count", kMarkedCountBytes, gpu::MemoryUse::DeviceLocal);
+  marked_ = plan.addBuffer("map_reactivate.marked", list_bytes, gpu::MemoryUse::DeviceLocal);
+  count_readback_ = plan.addBuffer("map_reactivate.count_readback", kMarkedCountBytes, gpu::MemoryUse::Readback);
+  marked_readback_ = plan.addBuffer("map_reactivate.marked_readback", list_bytes, gpu::MemoryUse::Readback);
+  move_plan_ = plan.addBuffer("map_reactivate.moves",
+                              sizeof(MovePlanHeader) + std::uint64_t{gates_.capacity} * sizeof(ReactivationMove),
+                              gpu::MemoryUse::Upload);
+  marked_slots_.resize(gates_.capacity);
 }
 
 SurfelReactivation::~SurfelReactivation() = default;
 
 void SurfelReactivation::build(const gpu::MemoryArena& arena) {
   arena_ = &arena;
+  std::memcpy(arena.buffer(gates_buffer_).mapped, &gates_, sizeof(gates_));
   kernels_ = std::make_unique<Kernels>();
   Kernels& k = *kernels_;
-  // Both kernels: grid-stride over pixels or moves, one binding set per surfel-array parity.
+  // Both kernels: grid-stride over surfels or moves, one binding set per surfel-array parity.
   const auto create = [&](const char* name, std::span<const std::uint32_t> spirv, std::uint32_t storage_buffers) {
     gpu::KernelSpec spec;
     spec.name = name;
@@ -70,19 +81,24 @@ void SurfelReactivation::build(const gpu::MemoryArena& arena) {
     spec.max_binding_sets = 2;
     return gpu::ComputeKernel::create(context_, std::move(spec));
   };
-  k.reactivate = create("map_reactivate", shaders::map_reactivate, 4);
+  k.reactivate = create("map_reactivate", shaders::map_reactivate, 8);
   k.move = create("map_reactivate_move", shaders::map_reactivate_move, 3);
   const std::uint32_t groups = surfelWorkgroups(context_, kWorkgroups);
   const auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
+  const ModelLevelBuffers& level0 = inactive_.level(0);
+  const std::uint64_t list_bytes = std::uint64_t{gates_.capacity} * sizeof(std::uint32_t);
   for (int parity = 0; parity < 2; ++parity) {
-    k.mark_sets[parity] =
-        k.reactivate->bind({buffer(map_.state()), buffer(map_.surfels(parity)), buffer(ids_), buffer(params_)});
+    k.mark_sets[parity] = k.reactivate->bind(
+        {buffer(map_.state()), buffer(inactive_.paramsBuffer()), buffer(map_.surfels(parity)), buffer(level0.vertices),
+         buffer(level0.normals), buffer(gates_buffer_), buffer(marked_count_), buffer(marked_)});
     k.mark[parity] = gpu::CommandSequence::create(context_, "map reactivate " + std::to_string(parity));
     k.mark[parity]->record([&](gpu::CommandRecorder& recorder) {
-      recorder.computeBarrier();  // after the inactive prediction and earlier map writes
+      recorder.fillBuffer(arena.buffer(marked_count_), 0);
+      recorder.computeBarrier();  // after the clear, the inactive prediction and earlier map writes
       recorder.dispatch(*k.reactivate, k.mark_sets[parity], {groups, 1, 1});
-      recorder.copyBuffer(arena.buffer(ids_), arena.buffer(ids_readback_),
-                          std::uint64_t{pixels_} * sizeof(std::uint32_t));
+      recorder.computeBarrier();
+      recorder.copyBuffer(arena.buffer(marked_count_), arena.buffer(count_readback_), kMarkedCountBytes);
+      recorder.copyBuffer(arena.buffer(marked_), arena.buffer(marked_readback_), list_bytes);
       recorder.computeBarrier();
       recorder.hostReadBarrier();
     });
@@ -97,17 +113,17 @@ void SurfelReactivation::build(const gpu::MemoryArena& arena) {
   }
 }
 
-std::uint32_t SurfelReactivation::apply(std::uint32_t frame) {
-  const ReactivateParams params{pixels_, frame};
-  std::memcpy(arena_->buffer(params_).mapped, &params, sizeof(params));
+std::uint32_t SurfelReactivation::apply() {
   kernels_->mark[map_.current()]->run();
 
   const MapState state = map_.readState(*arena_);
-  const std::span<const std::uint32_t> ids = arena_->buffer(ids_readback_).hostSpan<const std::uint32_t>();
+  last_found_ = arena_->buffer(count_readback_).hostSpan<const std::uint32_t>()[0];
+  const std::span<const std::uint32_t> marked =
+      arena_->buffer(marked_readback_).hostSpan<const std::uint32_t>().first(std::min(last_found_, gates_.capacity));
   std::byte* plan_bytes = arena_->buffer(move_plan_).mapped;
   const std::span<ReactivationMove> moves(reinterpret_cast<ReactivationMove*>(plan_bytes + sizeof(MovePlanHeader)),
-                                          pixels_);
-  const ReactivationPlan plan = planReactivationMoves(ids.first(pixels_), state.active_begin, marked_slots_, moves);
+                                          gates_.capacity);
+  const ReactivationPlan plan = planReactivationMoves(marked, state.active_begin, marked_slots_, moves);
   if (plan.active_begin == state.active_begin) return 0;
   const MovePlanHeader header{plan.moves};
   std::memcpy(plan_bytes, &header, sizeof(header));
@@ -152,13 +168,33 @@ void applyReactivationMovesCpu(std::span<Surfel> current, std::span<Surfel> othe
   }
 }
 
-void reactivateSurfelsCpu(std::span<Surfel> surfels, ImageView<const std::uint32_t> ids, std::uint32_t frame) {
-  for (int y = 0; y < ids.height; ++y) {
-    for (int x = 0; x < ids.width; ++x) {
-      const std::uint32_t id = ids(x, y);
-      if (id < surfels.size()) surfels[id].colour_times.z() = static_cast<float>(frame);
-    }
+std::vector<std::uint32_t> reactivateInViewCpu(std::span<Surfel> surfels, const PredictionParams& params,
+                                               ImageView<const Eigen::Vector4f> vertices,
+                                               ImageView<const Eigen::Vector4f> normals, const ReactivateGates& gates) {
+  std::vector<std::uint32_t> marked;
+  const MapView& view = params.view;
+  for (std::size_t i = 0; i < surfels.size() && marked.size() < gates.capacity; ++i) {
+    Surfel& surfel = surfels[i];
+    if (!isRenderedCpu(surfel, params)) continue;
+    const Eigen::Vector3f p_C = transformPointCpu(view, surfel.position_confidence.head<3>());
+    const Eigen::Vector3f n_C = rotateVectorCpu(view, surfel.normal_radius.head<3>());
+    if (!(p_C.z() > params.min_depth_m && p_C.z() <= params.max_depth_m)) continue;
+    const Eigen::Vector2f uv = projectPointCpu(view, p_C);
+    const int x = static_cast<int>(std::floor(uv.x() + 0.5f));
+    const int y = static_cast<int>(std::floor(uv.y() + 0.5f));
+    if (x < 0 || y < 0 || x >= view.width || y >= view.height) continue;
+    const Eigen::Vector4f& v = vertices(x, y);
+    if (v.w() == 0.0f) continue;
+    const Eigen::Vector4f& n = normals(x, y);
+    const float dz = p_C.z() - v.z();
+    const float v2 = (v.x() * v.x() + v.y() * v.y()) + v.z() * v.z();
+    if (!((dz * dz) * v2 < gates.max_depth_diff2_m2 * (v.z() * v.z()))) continue;
+    const float cos_angle = std::abs((n_C.x() * n.x() + n_C.y() * n.y()) + n_C.z() * n.z());
+    if (!(cos_angle > gates.min_normal_cos || std::abs(n_C.z()) < gates.grazing_normal_z)) continue;
+    surfel.colour_times.z() = static_cast<float>(view.frame);
+    marked.push_back(static_cast<std::uint32_t>(i));
   }
+  return marked;
 }
 
 }  // namespace vifusion::map

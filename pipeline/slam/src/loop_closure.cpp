@@ -90,7 +90,8 @@ ClosureRefusal refusalOf(RegistrationVerdict verdict) {
 
 LoopClosure::LoopClosure(gpu::GpuContext& context, gpu::CapacityPlan& plan, const map::MapBuffers& map,
                          const map::ModelPrediction& prediction, const map::PredictionOptions& prediction_options,
-                         const tracking::IcpOptions& icp, double far_depth_m, const LoopClosureOptions& options)
+                         const map::FusionOptions& fusion, const tracking::IcpOptions& icp, double far_depth_m,
+                         const LoopClosureOptions& options)
     : context_(context), map_(map), active_(prediction), options_(options) {
   options_.validate();
   const PinholeCamera& camera = prediction.camera(0);
@@ -112,7 +113,7 @@ LoopClosure::LoopClosure(gpu::GpuContext& context, gpu::CapacityPlan& plan, cons
   deformation.max_nodes = static_cast<std::uint32_t>(options_.graph.max_nodes);
   deformation.candidates = static_cast<std::uint32_t>(options_.graph.candidates);
   deformation_ = std::make_unique<map::SurfelDeformation>(context, plan, map, deformation);
-  reactivation_ = std::make_unique<map::SurfelReactivation>(context, plan, map, *inactive_);
+  reactivation_ = std::make_unique<map::SurfelReactivation>(context, plan, map, *inactive_, fusion);
   if (options_.graph.max_constraints < static_cast<int>(2 * grid_.size())) {
     options_.graph.max_constraints = static_cast<int>(2 * grid_.size());  // a constraint and a pin per grid point
   }
@@ -160,7 +161,7 @@ void LoopClosure::build(const gpu::MemoryArena& arena) {
   }
   deformation_->setNodes(std::span<const map::DeformationNode>(&identity, 1));
   deformation_->apply();
-  reactivation_->apply(0);
+  reactivation_->apply();
 }
 
 void LoopClosure::reactivateInView(const SE3d& T_W_C, std::uint32_t frame, std::uint32_t created_before) {
@@ -169,7 +170,7 @@ void LoopClosure::reactivateInView(const SE3d& T_W_C, std::uint32_t frame, std::
   selection.created_before = created_before;
   inactive_->setView(T_W_C.inverse(), frame, selection);
   render_inactive_[map_.current()]->run();
-  reactivation_->apply(frame);
+  reactivation_->apply();
 }
 
 ClosureReport LoopClosure::tryClose(const SE3d& T_W_C, std::uint32_t frame, const std::optional<Eigen::Vector3d>& g_W) {
@@ -195,7 +196,7 @@ ClosureReport LoopClosure::tryClose(const SE3d& T_W_C, std::uint32_t frame, cons
     // The inactive prediction rendered for the registration is at this very pose: its surfels are the ones
     // in view.
     const auto apply_start = std::chrono::steady_clock::now();
-    reactivation_->apply(frame);
+    reactivation_->apply();
     report.apply_ms = msSince(apply_start);
     report.outcome = ClosureOutcome::kAgreed;
     report.ms = msSince(start);
@@ -260,7 +261,7 @@ ClosureReport LoopClosure::deform(const SE3d& T_W_C, std::uint32_t frame, const 
   const SE3d T_W_C_new = report.T_Wnew_Wold * T_W_C;
   inactive_->setView(T_W_C_new.inverse(), frame);
   render_inactive_[map_.current()]->run();
-  reactivation_->apply(frame);
+  reactivation_->apply();
   last_accepted_frame_ = frame;
   report.apply_ms = msSince(apply_start);
   report.outcome = ClosureOutcome::kAccepted;

@@ -99,8 +99,8 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   importer_ = std::make_unique<map::MapImport>(context, plan_, *map_);
   reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_);
   if (options.loop.enabled) {
-    loop_closure_ =
-        std::make_unique<LoopClosure>(context, plan_, *map_, *prediction_, prediction, icp, far_depth_m_, options.loop);
+    loop_closure_ = std::make_unique<LoopClosure>(context, plan_, *map_, *prediction_, prediction, fusion, icp,
+                                                  far_depth_m_, options.loop);
   }
   if (options.relocalisation.enabled) {
     relocaliser_ = std::make_unique<Relocaliser>(options.relocalisation, camera.width, camera.height);

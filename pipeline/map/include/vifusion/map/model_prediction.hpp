@@ -99,6 +99,7 @@ class ModelPrediction {
   const ModelLevelBuffers& level(int level) const { return levels_.at(static_cast<std::size_t>(level)); }
   gpu::BufferId splatDepthBits() const { return depth_bits_; }  ///< splat key (prediction.glsl) per level-0 pixel
   gpu::BufferId splatIds() const { return ids_; }               ///< uint per level-0 pixel, kNoSurfel = none
+  gpu::BufferId paramsBuffer() const { return params_; }        ///< PredictionParams of the next submission
 
  private:
   struct Kernels;

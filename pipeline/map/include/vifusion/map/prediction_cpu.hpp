@@ -70,6 +70,8 @@ Eigen::Vector3f transformPointCpu(const MapView& view, const Eigen::Vector3f& p_
 Eigen::Vector3f rotateVectorCpu(const MapView& view, const Eigen::Vector3f& n_W);
 Eigen::Vector2f projectPointCpu(const MapView& view, const Eigen::Vector3f& p_C);
 std::uint32_t framesSinceCpu(const MapView& view, float frame);
+/// prediction.glsl's isRendered: whether `params` selects the surfel.
+bool isRenderedCpu(const Surfel& surfel, const PredictionParams& params);
 
 /// Both splat passes: per pixel the smallest splat key (prediction.glsl: centre pixels first, then
 /// the disk intersection depth; 0xffffffff = none) and the lowest index of the surfels with that key

@@ -35,6 +35,7 @@
 #include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/gpu/memory_arena.hpp"
 #include "vifusion/loop/deformation_graph.hpp"
+#include "vifusion/map/fusion_params.hpp"
 #include "vifusion/map/map_buffers.hpp"
 #include "vifusion/map/map_sampling.hpp"
 #include "vifusion/map/model_prediction.hpp"
@@ -121,11 +122,13 @@ struct ClosureReport {
 class LoopClosure {
  public:
   /// Declares the inactive prediction, registration, sampling, deformation and reactivation in `plan`, for the
-  /// active `prediction` (whose level-0 camera and levels it shares) of `map`; `far_depth_m` is the far end of
-  /// the depth range [m] (ModelRegistration's covariance test).
+  /// active `prediction` (whose level-0 camera and levels it shares) of `map`; `fusion`: the association gates a
+  /// surfel must pass to be reactivated; `far_depth_m` is the far end of the depth range [m] (ModelRegistration's
+  /// covariance test).
   LoopClosure(gpu::GpuContext& context, gpu::CapacityPlan& plan, const map::MapBuffers& map,
               const map::ModelPrediction& prediction, const map::PredictionOptions& prediction_options,
-              const tracking::IcpOptions& icp, double far_depth_m, const LoopClosureOptions& options);
+              const map::FusionOptions& fusion, const tracking::IcpOptions& icp, double far_depth_m,
+              const LoopClosureOptions& options);
   ~LoopClosure();
 
   /// Creates the kernels and sequences and runs each once on the (empty) map, so that pipelines are compiled at

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "block_wall.hpp"
 #include "gpu_test_environment.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
 #include "vifusion/map/map_buffers.hpp"
@@ -27,37 +28,12 @@ namespace {
 
 using map::Surfel;
 
-/// 80 × 60 pinhole, f = 60 px: small enough for CPU references of whole images.
-const PinholeCamera kCamera = PinholeCamera::create(80, 60, 60, 60, 39.5, 29.5);
-constexpr float kWallDepth_m = 2.0f;
-constexpr std::uint32_t kFrame = 1000;        ///< the frame the map is predicted and reactivated in
-constexpr std::uint32_t kWindowFrames = 200;  ///< MapOptions' δ_t
-constexpr std::uint32_t kInactiveAge = 300;   ///< > δ_t
-constexpr float kStableConfidence = 20.0f;    ///< ≥ the threshold of 10
-constexpr float kUnstableConfidence = 1.0f;
+const PinholeCamera& kCamera = test::kBlockWallCamera;
+constexpr float kWallDepth_m = test::kBlockWallDepth_m;
+constexpr std::uint32_t kFrame = test::kBlockWallFrame;  ///< the frame the map is predicted and reactivated in
+constexpr std::uint32_t kWindowFrames = 200;             ///< MapOptions' δ_t
+constexpr float kStableConfidence = test::kBlockWallStableConfidence;
 constexpr std::size_t kWallSurfels = 60 * 60;
-
-/// A wall at kWallDepth_m facing the camera at the origin of W, one surfel per pixel left of x = 60 (the rest of
-/// the image sees nothing), in 8 × 8-pixel blocks that take turns being active and stable, active and unstable,
-/// inactive and stable, inactive and unstable. Creation frames follow the index.
-std::vector<Surfel> wallSurfels() {
-  std::vector<Surfel> surfels;
-  for (int y = 0; y < kCamera.height; ++y) {
-    for (int x = 0; x < 60; ++x) {
-      const int kind = (x / 8 + y / 8) % 4;
-      const float z = kWallDepth_m;
-      Surfel s;
-      s.position_confidence << (static_cast<float>(x) - 39.5f) * z / 60.0f, (static_cast<float>(y) - 29.5f) * z / 60.0f,
-          z, kind % 2 == 0 ? kStableConfidence : kUnstableConfidence;
-      s.normal_radius << 0.0f, 0.0f, -1.0f, 1.5f * z / 60.0f;
-      s.setPackedColour(static_cast<std::uint32_t>(x * 3 + y * 7) & 0xffffffu);
-      s.colour_times.y() = static_cast<float>(surfels.size() / 64);
-      s.colour_times.z() = static_cast<float>(kind < 2 ? kFrame - 3 : kFrame - kInactiveAge);
-      surfels.push_back(s);
-    }
-  }
-  return surfels;
-}
 
 bool isInactiveStable(const Surfel& s) {
   return s.position_confidence.w() >= kStableConfidence && kFrame - s.colour_times.z() > kWindowFrames;
@@ -102,30 +78,30 @@ class ReactivationRig {
     reactivation_.build(*arena_);
     export_.build(*arena_);
     map_.reset(*arena_);
-    for (int parity = 0; parity < 2; ++parity) {
-      uploads_[parity] = gpu::CommandSequence::create(context, "upload " + std::to_string(parity));
-      uploads_[parity]->record([&](gpu::CommandRecorder& r) {
+    // setMap writes both arrays and makes array 0 current; the predictions render it.
+    upload_both_ = gpu::CommandSequence::create(context, "upload");
+    upload_both_->record([&](gpu::CommandRecorder& r) {
+      for (int parity = 0; parity < 2; ++parity) {
         r.copyBuffer(buffer(upload_), buffer(map_.surfels(parity)), surfel_bytes);
-        r.computeBarrier();
-      });
-      predictions_[parity] = gpu::CommandSequence::create(context, "predict " + std::to_string(parity));
-      predictions_[parity]->record([&](gpu::CommandRecorder& r) {
-        active_.record(r, parity);
-        inactive_.record(r, parity);
-        r.copyBuffer(buffer(inactive_.level(0).vertices), buffer(vertices_), pixels * sizeof(Eigen::Vector4f));
-        r.copyBuffer(buffer(inactive_.level(0).normals), buffer(normals_), pixels * sizeof(Eigen::Vector4f));
-        r.copyBuffer(buffer(active_.splatIds()), buffer(active_ids_), pixels * sizeof(std::uint32_t));
-        r.copyBuffer(buffer(inactive_.splatIds()), buffer(inactive_ids_), pixels * sizeof(std::uint32_t));
-        r.hostReadBarrier();
-      });
-    }
+      }
+      r.computeBarrier();
+    });
+    predict_ = gpu::CommandSequence::create(context, "predict");
+    predict_->record([&](gpu::CommandRecorder& r) {
+      active_.record(r, 0);
+      inactive_.record(r, 0);
+      r.copyBuffer(buffer(inactive_.level(0).vertices), buffer(vertices_), pixels * sizeof(Eigen::Vector4f));
+      r.copyBuffer(buffer(inactive_.level(0).normals), buffer(normals_), pixels * sizeof(Eigen::Vector4f));
+      r.copyBuffer(buffer(active_.splatIds()), buffer(active_ids_), pixels * sizeof(std::uint32_t));
+      r.copyBuffer(buffer(inactive_.splatIds()), buffer(inactive_ids_), pixels * sizeof(std::uint32_t));
+      r.hostReadBarrier();
+    });
   }
 
   /// Writes `surfels` into both arrays and makes the first current, with [0, active_begin) the inactive prefix.
   void setMap(std::span<const Surfel> surfels, std::uint32_t active_begin = 0) {
     std::memcpy(buffer(upload_).mapped, surfels.data(), surfels.size_bytes());
-    uploads_[0]->run();
-    uploads_[1]->run();
+    upload_both_->run();
     if (map_.current() != 0) map_.flip();
     map::MapState state;
     state.surfel_count = static_cast<std::uint32_t>(surfels.size());
@@ -133,11 +109,11 @@ class ReactivationRig {
     state.active_begin = active_begin;
     std::memcpy(buffer(map_.state()).mapped, &state, sizeof(state));
   }
-  /// Both predictions, camera at the origin of W looking along +z.
+  /// Both predictions of array 0 (setMap makes it current), camera at the origin of W looking along +z.
   void predict() {
     active_.setView(SE3d(), kFrame);
     inactive_.setView(SE3d(), kFrame);
-    predictions_[map_.current()]->run();
+    predict_->run();
   }
   map::PredictionParams inactiveParams() const { return inactive_.makeParams(SE3d(), kFrame); }
   ImageView<const Eigen::Vector4f> vertices() const { return image<Eigen::Vector4f>(vertices_); }
@@ -185,7 +161,7 @@ class ReactivationRig {
   map::MapExport export_;
   gpu::BufferId upload_, vertices_, normals_, active_ids_, inactive_ids_;
   std::unique_ptr<gpu::MemoryArena> arena_;
-  std::unique_ptr<gpu::CommandSequence> uploads_[2], predictions_[2];
+  std::unique_ptr<gpu::CommandSequence> upload_both_, predict_;
 };
 
 /// The CPU reference's marks on `surfels` for the rig's last prediction, with the rig's gates.
@@ -202,7 +178,7 @@ class MapReactivationTest : public test::GpuTest {};
 // near twins come back, the others stay inactive. GPU against reactivateInViewCpu, bit for bit; the active
 // prediction then renders them and the inactive one is empty.
 TEST_F(MapReactivationTest, EverySurfelOnTheInactiveSurfaceComesBackAndNoneBehindIt) {
-  const std::vector<Surfel> wall = wallSurfels();
+  const std::vector<Surfel> wall = test::blockWallSurfels();
   std::vector<Surfel> map = wall;
   const std::vector<Surfel> near = twinsBehind(wall, 0.01f, 0.0f);
   const std::vector<Surfel> far = twinsBehind(wall, 0.30f, 0.0f);
@@ -250,7 +226,7 @@ TEST_F(MapReactivationTest, EverySurfelOnTheInactiveSurfaceComesBackAndNoneBehin
 // More surfels on the surface than the list holds (kReactivatedPerPixel per pixel): the first reactivation marks
 // exactly its capacity and reports how many it found; the next, on a fresh prediction, takes the rest.
 TEST_F(MapReactivationTest, SurfelsPastTheCapacityComeBackAtTheNextReactivation) {
-  const std::vector<Surfel> wall = wallSurfels();
+  const std::vector<Surfel> wall = test::blockWallSurfels();
   std::vector<Surfel> map = wall;
   constexpr int kLayers = 12;  // 13 layers of ~900 inactive surfels within 4 cm: past 2 × 4800
   for (int layer = 1; layer <= kLayers; ++layer) {
@@ -283,7 +259,7 @@ TEST_F(MapReactivationTest, SurfelsPastTheCapacityComeBackAtTheNextReactivation)
 // nothing lost or duplicated, every reactivated surfel above the new prefix's end, and the prefix the same in both
 // arrays.
 TEST_F(MapReactivationTest, ReactivatedSurfelsLeaveTheInactivePrefix) {
-  const std::vector<Surfel> wall = wallSurfels();
+  const std::vector<Surfel> wall = test::blockWallSurfels();
   std::vector<Surfel> with_twins = wall;
   const std::vector<Surfel> near = twinsBehind(wall, 0.01f, 0.0f);
   with_twins.insert(with_twins.end(), near.begin(), near.end());

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "block_wall.hpp"
 #include "counting_vulkan.hpp"
 #include "gpu_test_environment.hpp"
 #include "vifusion/gpu/command_sequence.hpp"
@@ -33,13 +34,9 @@ using map::GatherPixel;
 using map::MapNodeSample;
 using map::Surfel;
 
-/// 80 × 60 pinhole, f = 60 px: small enough for CPU references of whole images, large enough for a scene.
-const PinholeCamera kCamera = PinholeCamera::create(80, 60, 60, 60, 39.5, 29.5);
-constexpr float kWallDepth_m = 2.0f;
-constexpr std::uint32_t kFrame = 1000;       ///< the frame the gather's map is predicted in
-constexpr std::uint32_t kInactiveAge = 300;  ///< > δ_t = 200 frames
-constexpr float kStableConfidence = 20.0f;   ///< ≥ the threshold of 10
-constexpr float kUnstableConfidence = 1.0f;
+const PinholeCamera& kCamera = test::kBlockWallCamera;
+constexpr std::uint32_t kFrame = test::kBlockWallFrame;  ///< the frame the gather's map is predicted in
+constexpr float kStableConfidence = test::kBlockWallStableConfidence;
 
 map::MapOptions mapOptions(std::uint32_t capacity) {
   map::MapOptions options;
@@ -116,28 +113,6 @@ std::vector<Surfel> grownMap(std::uint32_t frames, std::uint32_t seed) {
     std::swap(live, compacted);
   }
   return live;
-}
-
-/// A wall at kWallDepth_m facing the camera at the origin of W, one surfel per pixel left of x = 60 (the rest
-/// of the image sees nothing), in 8 × 8-pixel blocks that take turns being active and stable, active and
-/// unstable, inactive and stable, inactive and unstable. Creation frames follow the index.
-std::vector<Surfel> wallSurfels() {
-  std::vector<Surfel> surfels;
-  for (int y = 0; y < kCamera.height; ++y) {
-    for (int x = 0; x < 60; ++x) {
-      const int kind = (x / 8 + y / 8) % 4;
-      const float z = kWallDepth_m;
-      Surfel s;
-      s.position_confidence << (static_cast<float>(x) - 39.5f) * z / 60.0f, (static_cast<float>(y) - 29.5f) * z / 60.0f,
-          z, kind % 2 == 0 ? kStableConfidence : kUnstableConfidence;
-      s.normal_radius << 0.0f, 0.0f, -1.0f, 1.5f * z / 60.0f;
-      s.setPackedColour(static_cast<std::uint32_t>(x * 3 + y * 7) & 0xffffffu);
-      s.colour_times.y() = static_cast<float>(surfels.size() / 64);
-      s.colour_times.z() = static_cast<float>(kind < 2 ? kFrame - 3 : kFrame - kInactiveAge);
-      surfels.push_back(s);
-    }
-  }
-  return surfels;
 }
 
 /// A map with an active and an inactive prediction, node sampling and a gather per prediction on one arena,
@@ -304,7 +279,7 @@ TEST_F(MapSamplingTest, NodeSamplesBuildADeformationGraphWithoutAllocating) {
 }
 
 TEST_F(MapSamplingTest, GathersTheSurfelsThatWonThePixelsOfTheActiveAndTheInactivePrediction) {
-  const std::vector<Surfel> wall = wallSurfels();
+  const std::vector<Surfel> wall = test::blockWallSurfels();
   const auto count = static_cast<std::uint32_t>(wall.size());
   const map::MapSamplingOptions options = smallOptions();
   SamplingRig rig(context(), 2 * count, options);
@@ -385,7 +360,7 @@ TEST_F(MapSamplingTest, GathersTheSurfelsThatWonThePixelsOfTheActiveAndTheInacti
 // (Not under the validation layer, which allocates on the host at every submission.)
 TEST_F(MapSamplingTest, SamplesAndGathersWithoutAllocatingAfterBuild) {
   if (context().validationEnabled()) GTEST_SKIP() << "the validation layer allocates per submission";
-  const std::vector<Surfel> wall = wallSurfels();
+  const std::vector<Surfel> wall = test::blockWallSurfels();
   const auto count = static_cast<std::uint32_t>(wall.size());
   const map::MapSamplingOptions options;
   SamplingRig rig(context(), count, options);

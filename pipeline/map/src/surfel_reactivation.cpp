@@ -54,10 +54,9 @@ SurfelReactivation::SurfelReactivation(gpu::GpuContext& context, gpu::CapacityPl
   gates_ = ReactivateGates::of(fusion, kReactivatedPerPixel * pixels);
   const std::uint64_t list_bytes = std::uint64_t{gates_.capacity} * sizeof(std::uint32_t);
   gates_buffer_ = plan.addBuffer("map_reactivate.gates", sizeof(ReactivateGates), gpu::MemoryUse::Upload);
-  marked_count_ = plan.addBuffer("map_reactivate.count", kMarkedCountBytes, gpu::MemoryUse::DeviceLocal);
-  marked_ = plan.addBuffer("map_reactivate.marked", list_bytes, gpu::MemoryUse::DeviceLocal);
-  count_readback_ = plan.addBuffer("map_reactivate.count_readback", kMarkedCountBytes, gpu::MemoryUse::Readback);
-  marked_readback_ = plan.addBuffer("map_reactivate.marked_readback", list_bytes, gpu::MemoryUse::Readback);
+  // Host-visible: the kernel appends sparsely and the host plans from them, so nothing is copied.
+  marked_count_ = plan.addBuffer("map_reactivate.count", kMarkedCountBytes, gpu::MemoryUse::Readback);
+  marked_ = plan.addBuffer("map_reactivate.marked", list_bytes, gpu::MemoryUse::Readback);
   move_plan_ = plan.addBuffer("map_reactivate.moves",
                               sizeof(MovePlanHeader) + std::uint64_t{gates_.capacity} * sizeof(ReactivationMove),
                               gpu::MemoryUse::Upload);
@@ -86,7 +85,6 @@ void SurfelReactivation::build(const gpu::MemoryArena& arena) {
   const std::uint32_t groups = surfelWorkgroups(context_, kWorkgroups);
   const auto buffer = [&](gpu::BufferId id) { return &arena.buffer(id); };
   const ModelLevelBuffers& level0 = inactive_.level(0);
-  const std::uint64_t list_bytes = std::uint64_t{gates_.capacity} * sizeof(std::uint32_t);
   for (int parity = 0; parity < 2; ++parity) {
     k.mark_sets[parity] = k.reactivate->bind(
         {buffer(map_.state()), buffer(inactive_.paramsBuffer()), buffer(map_.surfels(parity)), buffer(level0.vertices),
@@ -96,9 +94,6 @@ void SurfelReactivation::build(const gpu::MemoryArena& arena) {
       recorder.fillBuffer(arena.buffer(marked_count_), 0);
       recorder.computeBarrier();  // after the clear, the inactive prediction and earlier map writes
       recorder.dispatch(*k.reactivate, k.mark_sets[parity], {groups, 1, 1});
-      recorder.computeBarrier();
-      recorder.copyBuffer(arena.buffer(marked_count_), arena.buffer(count_readback_), kMarkedCountBytes);
-      recorder.copyBuffer(arena.buffer(marked_), arena.buffer(marked_readback_), list_bytes);
       recorder.computeBarrier();
       recorder.hostReadBarrier();
     });
@@ -117,9 +112,9 @@ std::uint32_t SurfelReactivation::apply() {
   kernels_->mark[map_.current()]->run();
 
   const MapState state = map_.readState(*arena_);
-  last_found_ = arena_->buffer(count_readback_).hostSpan<const std::uint32_t>()[0];
+  last_found_ = arena_->buffer(marked_count_).hostSpan<const std::uint32_t>()[0];
   const std::span<const std::uint32_t> marked =
-      arena_->buffer(marked_readback_).hostSpan<const std::uint32_t>().first(std::min(last_found_, gates_.capacity));
+      arena_->buffer(marked_).hostSpan<const std::uint32_t>().first(std::min(last_found_, gates_.capacity));
   std::byte* plan_bytes = arena_->buffer(move_plan_).mapped;
   const std::span<ReactivationMove> moves(reinterpret_cast<ReactivationMove*>(plan_bytes + sizeof(MovePlanHeader)),
                                           gates_.capacity);

@@ -76,10 +76,8 @@ class SurfelReactivation {
   ReactivateGates gates_;
   std::uint32_t last_found_ = 0;
   gpu::BufferId gates_buffer_;
-  gpu::BufferId marked_count_;    ///< the kernel's append counter
-  gpu::BufferId marked_;          ///< the marked surfels' indices, capacity of them
-  gpu::BufferId count_readback_;  ///< both, for the host's plan
-  gpu::BufferId marked_readback_;
+  gpu::BufferId marked_count_;               ///< the kernel's append counter (host-visible)
+  gpu::BufferId marked_;                     ///< the marked surfels' indices, capacity of them (host-visible)
   gpu::BufferId move_plan_;                  ///< the plan: count, then ReactivationMove[capacity]
   std::vector<std::uint32_t> marked_slots_;  ///< the plan's scratch, capacity of them (reserved at start-up)
   const gpu::MemoryArena* arena_ = nullptr;

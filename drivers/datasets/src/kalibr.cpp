@@ -41,6 +41,11 @@ constexpr std::initializer_list<const char*> kImuKeys = {
     "update_rate", "rostopic", "model", "T_i_b", "time_offset",
     // ours, not Kalibr's: the rest of ImuNoiseParams, so our datasets round-trip
     "gyroscope_saturation", "accelerometer_saturation", "gyroscope_bias_prior", "accelerometer_bias_prior"};
+constexpr std::initializer_list<const char*> kDepthNoiseKeys = {"disparity_sigma_px", "focal_baseline_px_m",
+                                                                "quantisation_m",     "lateral_sigma_px",
+                                                                "correlation_px",     "pixels_per_sample"};
+constexpr std::initializer_list<const char*> kIntensityNoiseKeys = {"sigma", "lateral_sigma_px", "correlation_px",
+                                                                    "pixels_per_sample"};
 
 /// One YAML document with the file name, for errors that say "<file> line <n>: ...".
 struct Document {
@@ -280,10 +285,65 @@ RigCalibration readKalibr(const std::filesystem::path& camchain_imucam_yaml, con
 
 namespace {
 
+/// `key` of `map` as a number in [min, max], or `fallback` when the key is absent and `required` is false.
+double readBounded(const Document& doc, const YAML::Node& map, const char* context, const char* key, double min,
+                   double max, bool required, double fallback) {
+  const YAML::Node node = map[key];
+  if (!node) {
+    if (required) throw Error(at(doc, map) + "missing key '" + key + "' in " + context);
+    return fallback;
+  }
+  const double value = toDouble(doc, node, key);
+  if (!(value >= min && value <= max)) {
+    throw Error(at(doc, node) + "'" + key + "' in " + context + " must be in [" + std::to_string(min) + ", " +
+                std::to_string(max) + "], got " + node.Scalar());
+  }
+  return value;
+}
+
+/// depth_noise: and intensity_noise: (core/camera_noise_model.hpp), written together by `vifusion calib noise`.
+/// Bounds: a positive f·b; σ_d ≤ 10 px, q ≤ 0.1 m and σ_I ≤ 255 are far beyond any working sensor (a
+/// larger value is a unit mix-up); lateral σ ≤ 10 px; correlation within a 64-pixel window.
+CameraNoiseModel readNoise(const Document& doc, const YAML::Node& depth_map, const YAML::Node& intensity_map) {
+  constexpr double kMaxDisparitySigma_px = 10.0;
+  constexpr double kMaxQuantisation_m = 0.1;
+  constexpr double kMaxGrey = 255.0;
+  constexpr double kMaxCorrelation_px = 64.0;
+  constexpr double kMaxLateralSigma_px = 10.0;
+  constexpr double kMaxPixelsPerSample = (2 * kMaxCorrelation_px + 1) * (2 * kMaxCorrelation_px + 1);
+  constexpr double kMaxFocalBaseline_px_m = 1e4;
+  checkKeys(doc, depth_map, kDepthNoiseKeys, "depth_noise");
+  checkKeys(doc, intensity_map, kIntensityNoiseKeys, "intensity_noise");
+  CameraNoiseModel noise;
+  const char* depth = "depth_noise";
+  noise.depth.disparity_sigma_px =
+      readBounded(doc, depth_map, depth, "disparity_sigma_px", 0.0, kMaxDisparitySigma_px, true, 0.0);
+  noise.depth.focal_baseline_px_m =
+      readBounded(doc, depth_map, depth, "focal_baseline_px_m", 1e-6, kMaxFocalBaseline_px_m, true, 0.0);
+  noise.depth.quantisation_m =
+      readBounded(doc, depth_map, depth, "quantisation_m", 0.0, kMaxQuantisation_m, false, 0.0);
+  noise.depth.lateral_sigma_px =
+      readBounded(doc, depth_map, depth, "lateral_sigma_px", 0.0, kMaxLateralSigma_px, false, 0.0);
+  noise.depth.correlation_px =
+      readBounded(doc, depth_map, depth, "correlation_px", 0.0, kMaxCorrelation_px, false, 0.0);
+  noise.depth.pixels_per_sample =
+      readBounded(doc, depth_map, depth, "pixels_per_sample", 1.0, kMaxPixelsPerSample, false, 1.0);
+  const char* intensity = "intensity_noise";
+  noise.intensity.sigma = readBounded(doc, intensity_map, intensity, "sigma", 0.0, kMaxGrey, true, 0.0);
+  noise.intensity.lateral_sigma_px =
+      readBounded(doc, intensity_map, intensity, "lateral_sigma_px", 0.0, kMaxLateralSigma_px, false, 0.0);
+  noise.intensity.correlation_px =
+      readBounded(doc, intensity_map, intensity, "correlation_px", 0.0, kMaxCorrelation_px, false, 0.0);
+  noise.intensity.pixels_per_sample =
+      readBounded(doc, intensity_map, intensity, "pixels_per_sample", 1.0, kMaxPixelsPerSample, false, 1.0);
+  return noise;
+}
+
 RigCalibration readCalibrationDocument(const Document& doc) {
   RigCalibration calibration;
   checkKeys(doc, doc.root,
-            {"cam0", "cam1", "imu0", "depth_scale_m", "inverse_depth_bias_per_m", "gravity_world", "static_accel_bias"},
+            {"cam0", "cam1", "imu0", "depth_scale_m", "inverse_depth_bias_per_m", "gravity_world", "static_accel_bias",
+             "depth_noise", "intensity_noise"},
             "the top level");
   readCamera(doc, require(doc, doc.root, "cam0"), calibration);
   if (const YAML::Node cam1 = doc.root["cam1"]) readDepthCamera(doc, cam1, calibration);
@@ -308,6 +368,15 @@ RigCalibration readCalibrationDocument(const Document& doc) {
   }
   if (const YAML::Node bias = doc.root["static_accel_bias"]) {
     calibration.imu.static_accel_bias_mps2 = toVector3(doc, bias, "static_accel_bias");
+  }
+  const YAML::Node depth_noise = doc.root["depth_noise"];
+  const YAML::Node intensity_noise = doc.root["intensity_noise"];
+  if (depth_noise || intensity_noise) {
+    if (!depth_noise || !intensity_noise || !depth_noise.IsMap() || !intensity_noise.IsMap()) {
+      throw Error(at(doc, depth_noise ? depth_noise : intensity_noise) +
+                  "'depth_noise' and 'intensity_noise' must both be mappings (vifusion calib noise writes both)");
+    }
+    calibration.noise = readNoise(doc, depth_noise, intensity_noise);
   }
   return calibration;
 }
@@ -379,6 +448,25 @@ std::string calibrationYamlText(const RigCalibration& calibration) {
   out << YAML::Key << "static_accel_bias" << YAML::Value;
   const Eigen::Vector3d& bias = imu.static_accel_bias_mps2;
   vector(out, {bias.x(), bias.y(), bias.z()});
+  if (calibration.noise) {
+    const DepthNoiseModel& depth = calibration.noise->depth;
+    out << YAML::Key << "depth_noise" << YAML::Comment("1/z noise = disparity_sigma_px / focal_baseline_px_m")
+        << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "disparity_sigma_px" << YAML::Value << depth.disparity_sigma_px;
+    out << YAML::Key << "focal_baseline_px_m" << YAML::Value << depth.focal_baseline_px_m;
+    out << YAML::Key << "quantisation_m" << YAML::Value << depth.quantisation_m;
+    out << YAML::Key << "lateral_sigma_px" << YAML::Value << depth.lateral_sigma_px;
+    out << YAML::Key << "correlation_px" << YAML::Value << depth.correlation_px;
+    out << YAML::Key << "pixels_per_sample" << YAML::Value << depth.pixels_per_sample;
+    out << YAML::EndMap;
+    const IntensityNoiseModel& intensity = calibration.noise->intensity;
+    out << YAML::Key << "intensity_noise" << YAML::Comment("grey level, 0-255 scale") << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "sigma" << YAML::Value << intensity.sigma;
+    out << YAML::Key << "lateral_sigma_px" << YAML::Value << intensity.lateral_sigma_px;
+    out << YAML::Key << "correlation_px" << YAML::Value << intensity.correlation_px;
+    out << YAML::Key << "pixels_per_sample" << YAML::Value << intensity.pixels_per_sample;
+    out << YAML::EndMap;
+  }
   out << YAML::EndMap;
   if (!out.good()) throw Error("cannot format calibration: " + out.GetLastError());
 

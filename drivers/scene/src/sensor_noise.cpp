@@ -18,11 +18,11 @@ constexpr std::uint64_t kColourStreamRg = 3;
 constexpr std::uint64_t kColourStreamB = 4;
 constexpr std::uint64_t kDotPatternSeed = 0x4b696e656374ULL;  // fixed projector pattern
 
-constexpr int kCell_px = 3;                     // one projector dot per 3×3 cell
-constexpr int kWindowRadius_px = 4;             // 9×9 window of the dot filter
-constexpr double kInlierDistance_px = 0.1;      // disparity inlier threshold, after weighting
-constexpr double kValidFraction = 1.0 / 1.2;    // fraction of dots that must be valid / inliers
-constexpr int kFillRadiusSquared_px2 = 9;       // pixels a dot fills: r² ≤ 9
+constexpr int kCell_px = 3;                   // one projector dot per 3×3 cell
+constexpr int kWindowRadius_px = 4;           // 9×9 window of the dot filter
+constexpr double kInlierDistance_px = 0.1;    // disparity inlier threshold, after weighting
+constexpr double kValidFraction = 1.0 / 1.2;  // fraction of dots that must be valid / inliers
+constexpr int kFillRadiusSquared_px2 = 9;     // pixels a dot fills: r² ≤ 9
 
 /// Per-pixel random counter: frame in the high half, pixel in the low half.
 std::uint64_t pixelCounter(std::uint64_t frame_index, int x, int y, int width) {
@@ -84,6 +84,26 @@ double sampleDepth(const ImageView<const float>& depth_m, double x, double y) {
 }
 
 }  // namespace
+
+CameraNoiseModel configuredNoiseModel(const SensorNoiseOptions& options, const Eigen::Vector3d& grey_weights,
+                                      int subsampling) {
+  constexpr double kUniformRoundingVariance = 1.0 / 12.0;  // of rounding to whole units
+  constexpr double kDepthStep_m = 0.01;                    // step 4 rounds z to centimetres
+  const double focal_baseline_px_m = options.focal_length_px * options.baseline_m;
+  // Step 4's index is kKinectBandingConstant_cm / z_cm = (kKinectBandingConstant_cm / 100 m) / z.
+  const double disparity_per_index_px = focal_baseline_px_m / (kKinectBandingConstant_cm / 100.0);
+  const double index_variance = options.depth_noise_sigma * options.depth_noise_sigma + kUniformRoundingVariance;
+  const double step_px = options.disparity_step_px;
+  CameraNoiseModel model;
+  model.depth.focal_baseline_px_m = focal_baseline_px_m;
+  model.depth.disparity_sigma_px = std::sqrt(step_px * step_px * kUniformRoundingVariance +
+                                             disparity_per_index_px * disparity_per_index_px * index_variance);
+  model.depth.quantisation_m = kDepthStep_m;
+  model.depth.lateral_sigma_px = options.jitter_sigma_px / subsampling;
+  const double channel_variance = options.intensity_sigma * options.intensity_sigma + kUniformRoundingVariance;
+  model.intensity.sigma = std::sqrt(grey_weights.squaredNorm() * channel_variance);
+  return model;
+}
 
 SensorNoise::SensorNoise(const SensorNoiseOptions& options, RowPool& pool) : options_(options), pool_(pool) {
   if (!(options.focal_length_px > 0.0) || !(options.baseline_m > 0.0) || !(options.depth_scale > 0.0)) {

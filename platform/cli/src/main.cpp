@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 
+#include "calib_command.hpp"
 #include "eval_command.hpp"
 #include "gpu_self_check.hpp"
 #include "map_command.hpp"
@@ -235,6 +236,25 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   add_dds_options(map_save_command, map_save.dds);
 
+  CLI::App* calib_command = app.add_subcommand("calib", "Calibrate the sensors from data");
+  calib_command->require_subcommand(1);
+  vifusion::cli::CalibNoiseOptions calib_noise;
+  CLI::App* calib_noise_command = calib_command->add_subcommand(
+      "noise",
+      "Measure the camera's depth and intensity noise (σ, quantisation, spatial correlation) from frame pairs of a "
+      "dataset with ground-truth poses; one JSON object on stdout");
+  calib_noise_command
+      ->add_option("--source", calib_noise.source, "Dataset with ground truth (dataset:DIR, 7scenes:DIR, …)")
+      ->required();
+  calib_noise_command->add_option("--frame-step", calib_noise.frame_step, "Frames between the two frames of a pair")
+      ->capture_default_str();
+  calib_noise_command->add_option("--max-pairs", calib_noise.max_pairs, "Frame pairs, spread over the sequence")
+      ->capture_default_str();
+  calib_noise_command->add_option("--focal-baseline", calib_noise.focal_baseline_px_m,
+                                  "The sensor's f·b [px·m] (default: the calibration's depth_noise value)");
+  calib_noise_command->add_option("--out", calib_noise.out,
+                                  "Write the dataset's calibration.yaml with the measured noise here");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (self_check_command->parsed()) return vifusion::cli::runGpuSelfCheck(self_check);
@@ -244,6 +264,7 @@ int main(int argc, char** argv) {
     if (echo_command->parsed()) return vifusion::cli::runEcho(echo);
     if (status_command->parsed()) return vifusion::cli::runStatus(status);
     if (record_command->parsed()) return vifusion::cli::runRecord(record);
+    if (calib_noise_command->parsed()) return vifusion::cli::runCalibNoise(calib_noise);
     if (map_info_command->parsed()) return vifusion::cli::runMapInfo(map_file);
     if (map_save_command->parsed()) return vifusion::cli::runMapSave(map_save);
     if (synccheck_command->parsed()) {

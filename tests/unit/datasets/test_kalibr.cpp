@@ -170,6 +170,58 @@ TEST(Kalibr, InverseDepthBiasDefaultsToZeroAndAnImplausibleOneIsAnError) {
               "'inverse_depth_bias_per_m' (1/z_raw − 1/z) must be within ±0.1 1/m, got 1.5");
 }
 
+TEST(Kalibr, MeasuredNoiseRoundTripsAndIsOptional) {
+  TempDir tmp;
+  RigCalibration calibration;
+  calibration.camera = PinholeCamera::create(320, 240, 240.6, 240.0, 159.5, 119.5);
+  EXPECT_FALSE(readCalibrationYamlText(calibrationYamlText(calibration), "calibration.yaml").noise);
+  calibration.noise = CameraNoiseModel{
+      .depth = {.disparity_sigma_px = 0.047,
+                .focal_baseline_px_m = 36.0,
+                .quantisation_m = 0.011,
+                .lateral_sigma_px = 0.57,
+                .correlation_px = 0.86,
+                .pixels_per_sample = 12.8},
+      .intensity = {.sigma = 2.86, .lateral_sigma_px = 0.4, .correlation_px = 0.69, .pixels_per_sample = 4.1}};
+  writeCalibrationYaml(tmp / "calibration.yaml", calibration);
+  const RigCalibration back = readCalibrationYaml(tmp / "calibration.yaml");
+  ASSERT_TRUE(back.noise);
+  EXPECT_EQ(back.noise->depth.disparity_sigma_px, 0.047);
+  EXPECT_EQ(back.noise->depth.focal_baseline_px_m, 36.0);
+  EXPECT_EQ(back.noise->depth.quantisation_m, 0.011);
+  EXPECT_EQ(back.noise->depth.lateral_sigma_px, 0.57);
+  EXPECT_EQ(back.noise->depth.correlation_px, 0.86);
+  EXPECT_EQ(back.noise->depth.pixels_per_sample, 12.8);
+  EXPECT_EQ(back.noise->intensity.sigma, 2.86);
+  EXPECT_EQ(back.noise->intensity.lateral_sigma_px, 0.4);
+  EXPECT_EQ(back.noise->intensity.correlation_px, 0.69);
+  EXPECT_EQ(back.noise->intensity.pixels_per_sample, 4.1);
+}
+
+TEST(Kalibr, MeasuredNoiseTyposAndImplausibleValuesAreErrors) {
+  RigCalibration calibration;
+  calibration.camera = PinholeCamera::create(320, 240, 240.6, 240.0, 159.5, 119.5);
+  calibration.noise =
+      CameraNoiseModel{.depth = {.disparity_sigma_px = 0.05, .focal_baseline_px_m = 36.0}, .intensity = {.sigma = 2.7}};
+  const std::string text = calibrationYamlText(calibration);
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string edited = text;
+    edited.replace(edited.find(from), from.size(), to);
+    return edited;
+  };
+  expectError([&] { readCalibrationYamlText(with("disparity_sigma_px:", "disparity_sigma:"), "c.yaml"); },
+              "unknown key 'disparity_sigma' in depth_noise");
+  expectError([&] { readCalibrationYamlText(with("disparity_sigma_px: 0.05", "disparity_sigma_px: 50"), "c.yaml"); },
+              "'disparity_sigma_px' in depth_noise must be in [0.000000, 10.000000], got 50");
+  expectError([&] { readCalibrationYamlText(with("  sigma: 2.7", "  sigma: -1"), "c.yaml"); },
+              "'sigma' in intensity_noise must be in");
+  expectError([&] { readCalibrationYamlText(with("focal_baseline_px_m: 36", "focal_baseline_px_m: .nan"), "c.yaml"); },
+              "'focal_baseline_px_m' is not a finite number");
+  const std::string depth_only = text.substr(0, text.find("intensity_noise:"));
+  expectError([&] { readCalibrationYamlText(depth_only, "c.yaml"); },
+              "'depth_noise' and 'intensity_noise' must both be mappings");
+}
+
 TEST(Kalibr, MisspeltNestedKeyIsAnErrorWithItsLine) {
   TempDir tmp;
   std::string camchain = kCamchain;

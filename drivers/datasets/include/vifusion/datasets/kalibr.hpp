@@ -27,7 +27,13 @@
 // our optional gyroscope_saturation [rad/s], accelerometer_saturation [m/s²], gyroscope_bias_prior
 // [rad/s], accelerometer_bias_prior [m/s²], + top-level depth_scale_m [m per depth unit],
 // inverse_depth_bias_per_m [1/m] (RigCalibration: the sensor's 1/z reads this much too high),
-// gravity_world: [x, y, z] [m/s², dataset world W], static_accel_bias: [x, y, z] [m/s²].
+// gravity_world: [x, y, z] [m/s², dataset world W], static_accel_bias: [x, y, z] [m/s²], and, once measured by
+// `vifusion calib noise`, the camera's noise (core/camera_noise_model.hpp), both mappings together:
+//   depth_noise:      disparity_sigma_px [px], focal_baseline_px_m [px·m], quantisation_m [m] (optional, 0),
+//                     lateral_sigma_px [px] (optional, 0), correlation_px [px] (optional, 0),
+//                     pixels_per_sample (optional, 1)
+//   intensity_noise:  sigma [grey level, 0–255], lateral_sigma_px, correlation_px, pixels_per_sample (optional
+//                     as above)
 //
 // Every mapping's keys are checked: an unknown or misspelt key is an error naming it and its line,
 // because a typo in an optional key (say `timeshift_cam_imu`) would otherwise pass silently.

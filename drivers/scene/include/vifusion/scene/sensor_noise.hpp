@@ -30,8 +30,10 @@
 // All randomness is counter-based (counter_rng.hpp) on (seed, frame_index, pixel), so results are
 // identical for any thread count. Rounding is to nearest with ties to even, like numpy's round.
 
+#include <Eigen/Core>
 #include <cstdint>
 
+#include "vifusion/core/camera_noise_model.hpp"
 #include "vifusion/core/image.hpp"
 #include "vifusion/scene/row_pool.hpp"
 
@@ -54,6 +56,18 @@ struct SensorNoiseOptions {
   double depth_scale = 5000.0;           ///< output depth units per metre
   double intensity_sigma = 4.0;          ///< colour noise σ on the 0–255 scale; 0 switches it off
 };
+
+/// The noise these options configure, in the terms `vifusion calib noise` measures (core/camera_noise_model.hpp):
+///   σ_d² = step²/12 + (f·b / 351.3 m)²·(σ² + 1/12): step 2's disparity rounding, and step 4's index noise and
+///          rounding (index = 351.3 m / z, so one index unit is f·b / 351.3 m of disparity);
+///   q = 1 cm (step 4 rounds z to centimetres); lateral σ_px = step 1's jitter / subsampling, in the pixels of
+///   an image subsampled by that factor from the one the noise was applied to (sensor_resolution.hpp);
+///   grey σ² = (w_r² + w_g² + w_b²)·(intensity σ² + 1/12) for grey = w·(R, G, B) (8-bit rounding of each
+///   channel); the weights are the caller's (preprocessing's grey conversion).
+/// Correlation is left at none: the dot pattern's sharing of one disparity over a 3×3 cell has no closed form
+/// worth trusting over the measurement.
+CameraNoiseModel configuredNoiseModel(const SensorNoiseOptions& options, const Eigen::Vector3d& grey_weights,
+                                      int subsampling);
 
 class SensorNoise {
  public:

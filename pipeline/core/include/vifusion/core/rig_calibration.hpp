@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "vifusion/core/camera_noise_model.hpp"
 #include "vifusion/core/imu_noise.hpp"
 #include "vifusion/core/pinhole_camera.hpp"
 #include "vifusion/core/se3.hpp"
@@ -37,6 +38,8 @@ struct RigCalibration {
   /// error: moving from z₁ to z₂ reads as a move of (z₂ − z₁)(1 − b(z₁ + z₂)), so b = 1.4e-3 (the
   /// simulated Kinect, scene/sensor_noise.hpp) shrinks motion at 2–4 m by 0.6–1.1 %. 0: unbiased.
   double inverse_depth_bias_per_m = 0.0;
+  /// The camera's depth and intensity noise as measured by `vifusion calib noise`; unset until measured.
+  std::optional<CameraNoiseModel> noise;
   /// Camera → IMU: p_S = T_S_C · p_C. Kalibr's `T_cam_imu` is T_C_S, the inverse of this.
   SE3d T_S_C;
   /// Kalibr `timeshift_cam_imu`: t_imu = t_cam + time_shift_cam_imu_ns.

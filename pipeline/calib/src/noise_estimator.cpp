@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -109,10 +110,20 @@ NoiseEstimator::NoiseEstimator(double focal_baseline_px_m, const NoiseEstimatorO
 }
 
 void NoiseEstimator::addPair(const PairResidualImages& residuals) {
+  const int width = residuals.inverse_depth_residual_per_m.width();
+  const int height = residuals.inverse_depth_residual_per_m.height();
+  for (const Image<float>* image :
+       {&residuals.depth_b_m, &residuals.inverse_depth_gradient_sq, &residuals.bias_sensitivity, &residuals.grey_b_at_a,
+        &residuals.grey_a, &residuals.grey_gradient_sq}) {
+    if (image->width() != width || image->height() != height) {
+      throw std::invalid_argument("noise estimator: a pair's residual images differ in size");
+    }
+  }
   StoredPair& pair = pairs_.emplace_back();
   pair.inverse_depth_residual_per_m = residuals.inverse_depth_residual_per_m;
   pair.depth_b_m = residuals.depth_b_m;
   pair.inverse_depth_gradient_sq = residuals.inverse_depth_gradient_sq;
+  pair.bias_sensitivity = residuals.bias_sensitivity;
   pair.grey_gradient_sq = residuals.grey_gradient_sq;
   const Image<float>& grey_a = residuals.grey_a;
   const Image<float>& grey_b = residuals.grey_b_at_a;
@@ -277,6 +288,37 @@ NoiseEstimate NoiseEstimator::estimate() const {
   }
   depth_model.correlation_px = depth_correlation.correlationLength_px();
   depth_model.pixels_per_sample = depth_correlation.pixelsPerSample();
+
+  // The bias left in inverse depth, from the inliers of the depth fit; its σ from the scatter of the pairs' own
+  // estimates, which holds whatever the residuals share across a whole image.
+  std::vector<double> pair_wkr, pair_wkk;
+  for (const StoredPair& pair : pairs_) {
+    double wkr = 0.0;
+    double wkk = 0.0;
+    for_each_depth_in(pair, [&](std::size_t i, double r, const DepthFit::Features& f) {
+      const double variance = depth_variance(f);
+      const double k = pair.bias_sensitivity.data()[i];
+      if (!kept(r, variance) || !std::isfinite(k)) return;
+      const double w = 1.0 / (2.0 * variance);
+      wkr += w * k * r;
+      wkk += w * k * k;
+    });
+    pair_wkr.push_back(wkr);
+    pair_wkk.push_back(wkk);
+  }
+  const double sum_wkk = std::accumulate(pair_wkk.begin(), pair_wkk.end(), 0.0);
+  if (sum_wkk > 0.0 && pairs_.size() >= 2) {
+    const double bias = std::accumulate(pair_wkr.begin(), pair_wkr.end(), 0.0) / sum_wkk;
+    double scatter = 0.0;
+    for (std::size_t p = 0; p < pairs_.size(); ++p) {
+      if (pair_wkk[p] <= 0.0) continue;
+      const double pair_bias = pair_wkr[p] / pair_wkk[p];
+      scatter += pair_wkk[p] * (pair_bias - bias) * (pair_bias - bias);
+    }
+    estimate.remaining_inverse_depth_bias_per_m = bias;
+    estimate.remaining_inverse_depth_bias_sigma_per_m =
+        std::sqrt(scatter / (static_cast<double>(pairs_.size() - 1) * sum_wkk));
+  }
   estimate.model.intensity.correlation_px = intensity_correlation.correlationLength_px();
   estimate.model.intensity.pixels_per_sample = intensity_correlation.pixelsPerSample();
   return estimate;

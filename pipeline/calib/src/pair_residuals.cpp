@@ -34,11 +34,9 @@ double valueAtOffset(const Stencil& s, double dx, double dy) {
   return s.centre + (s.right - s.left) / kSpan * dx + (s.down - s.up) / kSpan * dy;
 }
 
-double gradientSquared(const Stencil& s) {
-  const double gx = (s.right - s.left) / kSpan;
-  const double gy = (s.down - s.up) / kSpan;
-  return gx * gx + gy * gy;
-}
+Eigen::Vector2d gradient(const Stencil& s) { return {(s.right - s.left) / kSpan, (s.down - s.up) / kSpan}; }
+
+double gradientSquared(const Stencil& s) { return gradient(s).squaredNorm(); }
 
 bool isSmoothSurface(const Stencil& s, double max_relative_curvature) {
   const double bound = max_relative_curvature * s.centre;
@@ -64,6 +62,7 @@ void computePairResiduals(const PinholeCamera& camera, ImageView<const float> in
     out.inverse_depth_residual_per_m.resize(width, height);
     out.depth_b_m.resize(width, height);
     out.inverse_depth_gradient_sq.resize(width, height);
+    out.bias_sensitivity.resize(width, height);
     out.grey_b_at_a.resize(width, height);
     out.grey_gradient_sq.resize(width, height);
     out.grey_a.resize(width, height);
@@ -75,15 +74,19 @@ void computePairResiduals(const PinholeCamera& camera, ImageView<const float> in
       out.inverse_depth_residual_per_m(x, y) = kNone;
       out.depth_b_m(x, y) = kNone;
       out.inverse_depth_gradient_sq(x, y) = kNone;
+      out.bias_sensitivity(x, y) = kNone;
       out.grey_b_at_a(x, y) = kNone;
       out.grey_gradient_sq(x, y) = kNone;
       out.grey_a(x, y) = grey_a(x, y);
       const bool inside_a = x >= kStep && y >= kStep && x < width - kStep && y < height - kStep;
       if (!inside_a || !isSmoothSurface(stencilAt(inverse_depth_a, x, y), options.max_relative_curvature)) continue;
 
-      const Eigen::Vector3d p_b = R_b_a * camera.backProject({x, y}, 1.0 / inverse_depth_a(x, y)) + t_b_a;
+      const Eigen::Vector3d ray_b = R_b_a * camera.backProject({x, y}, 1.0);
+      const double z_a = 1.0 / inverse_depth_a(x, y);
+      const Eigen::Vector3d p_b = ray_b * z_a + t_b_a;
       if (!(p_b.z() > 0.0)) continue;
-      const Eigen::Vector2d uv_b = camera.project(p_b);
+      Eigen::Matrix<double, 2, 3> J_uv_p;
+      const Eigen::Vector2d uv_b = camera.project(p_b, &J_uv_p);
       if (!camera.isInside(uv_b, kStep + 1)) continue;
       const int cx = static_cast<int>(std::lround(uv_b.x()));
       const int cy = static_cast<int>(std::lround(uv_b.y()));
@@ -95,6 +98,12 @@ void computePairResiduals(const PinholeCamera& camera, ImageView<const float> in
         out.inverse_depth_residual_per_m(x, y) = static_cast<float>(valueAtOffset(depth_b, dx, dy) - 1.0 / p_b.z());
         out.depth_b_m(x, y) = static_cast<float>(p_b.z());
         out.inverse_depth_gradient_sq(x, y) = static_cast<float>(gradientSquared(depth_b));
+        // b moves p_b by −z_a²·ray_b: along its own ray (1/z(p_b) changes) and across b's image (u' moves on
+        // the epipolar line, where ι_b has gradient ∇ι_b).
+        const Eigen::Vector3d dp_b = -z_a * z_a * ray_b;
+        const double through_depth = -dp_b.z() / (p_b.z() * p_b.z());
+        const double through_image = gradient(depth_b).dot(J_uv_p * dp_b);
+        out.bias_sensitivity(x, y) = static_cast<float>(1.0 + through_image - through_depth);
       }
       const Stencil intensity_b = stencilAt(grey_b, cx, cy);
       if (curvature(intensity_b, true) <= options.max_intensity_curvature &&

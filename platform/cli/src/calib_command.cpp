@@ -94,28 +94,34 @@ int runCalibNoise(const CalibNoiseOptions& options) {
                     {"fitted_sigma_per_m", bin.fitted_sigma_per_m},
                     {"depth_sigma_m", bin.inverse_depth_sigma_per_m * bin.z_m * bin.z_m}});
   }
-  const nlohmann::json report = {{"source", reader->describe()},
-                                 {"pairs", estimate.pairs},
-                                 {"frame_step", options.frame_step},
-                                 {"depth",
-                                  {{"disparity_sigma_px", model.depth.disparity_sigma_px},
-                                   {"focal_baseline_px_m", model.depth.focal_baseline_px_m},
-                                   {"inverse_depth_sigma_per_m", model.depth.inverseDepthSigma()},
-                                   {"quantisation_m", model.depth.quantisation_m},
-                                   {"lateral_sigma_px", model.depth.lateral_sigma_px},
-                                   {"correlation_px", model.depth.correlation_px},
-                                   {"pixels_per_sample", model.depth.pixels_per_sample},
-                                   {"samples", estimate.depth_samples},
-                                   {"bins", bins}}},
-                                 {"intensity",
-                                  {{"sigma", model.intensity.sigma},
-                                   {"lateral_sigma_px", model.intensity.lateral_sigma_px},
-                                   {"correlation_px", model.intensity.correlation_px},
-                                   {"pixels_per_sample", model.intensity.pixels_per_sample},
-                                   {"samples", estimate.intensity_samples}}}};
+  const double bias_per_m = calibration.inverse_depth_bias_per_m + estimate.remaining_inverse_depth_bias_per_m;
+  const nlohmann::json report = {
+      {"source", reader->describe()},
+      {"pairs", estimate.pairs},
+      {"frame_step", options.frame_step},
+      {"depth",
+       {{"disparity_sigma_px", model.depth.disparity_sigma_px},
+        {"focal_baseline_px_m", model.depth.focal_baseline_px_m},
+        {"inverse_depth_sigma_per_m", model.depth.inverseDepthSigma()},
+        {"quantisation_m", model.depth.quantisation_m},
+        {"lateral_sigma_px", model.depth.lateral_sigma_px},
+        {"correlation_px", model.depth.correlation_px},
+        {"pixels_per_sample", model.depth.pixels_per_sample},
+        {"samples", estimate.depth_samples},
+        {"inverse_depth_bias_per_m", bias_per_m},
+        {"inverse_depth_bias_sigma_per_m", estimate.remaining_inverse_depth_bias_sigma_per_m},
+        {"calibration_inverse_depth_bias_per_m", calibration.inverse_depth_bias_per_m},
+        {"bins", bins}}},
+      {"intensity",
+       {{"sigma", model.intensity.sigma},
+        {"lateral_sigma_px", model.intensity.lateral_sigma_px},
+        {"correlation_px", model.intensity.correlation_px},
+        {"pixels_per_sample", model.intensity.pixels_per_sample},
+        {"samples", estimate.intensity_samples}}}};
   std::printf("%s\n", report.dump().c_str());
   if (!options.out.empty()) {
     calibration.noise = model;
+    calibration.inverse_depth_bias_per_m = bias_per_m;
     datasets::writeCalibrationYaml(options.out, calibration);
   }
   return 0;

@@ -1,8 +1,9 @@
 #pragma once
 // `vifusion calib noise`: measures an RGB-D camera's depth and intensity noise (core/camera_noise_model.hpp)
-// from a dataset with ground-truth poses (calib/noise_estimator.hpp), prints the model and its per-depth
-// table as one JSON object, and optionally writes the dataset's calibration.yaml with the measured
-// `depth_noise:` and `intensity_noise:` keys.
+// and the inverse-depth bias (the disparity offset of RigCalibration::inverse_depth_bias_per_m) from a dataset
+// with ground-truth poses (calib/noise_estimator.hpp), prints them and the per-depth table as one JSON object,
+// and optionally writes the dataset's calibration.yaml with the measured `depth_noise:`, `intensity_noise:` and
+// `inverse_depth_bias_per_m`.
 
 #include <string>
 

@@ -14,12 +14,14 @@ constexpr double kFocalBaseline_px_m = 36.0;
 
 /// Residual images drawn from a known model: σ_ι² = A + B/z⁴ + L·g², grey σ_I with a brightness change,
 /// and a share of gross outliers (occlusions) in both.
-PairResidualImages drawPair(std::mt19937& rng, const DepthNoiseModel& depth, double grey_sigma, double outlier_share) {
+PairResidualImages drawPair(std::mt19937& rng, const DepthNoiseModel& depth, double grey_sigma, double outlier_share,
+                            double bias_per_m) {
   constexpr int kWidth = 160, kHeight = 120;
   PairResidualImages pair;
   pair.inverse_depth_residual_per_m.resize(kWidth, kHeight);
   pair.depth_b_m.resize(kWidth, kHeight);
   pair.inverse_depth_gradient_sq.resize(kWidth, kHeight);
+  pair.bias_sensitivity.resize(kWidth, kHeight);
   pair.grey_b_at_a.resize(kWidth, kHeight);
   pair.grey_a.resize(kWidth, kHeight);
   pair.grey_gradient_sq.resize(kWidth, kHeight);
@@ -35,8 +37,10 @@ PairResidualImages drawPair(std::mt19937& rng, const DepthNoiseModel& depth, dou
     const bool outlier = uniform(rng) < outlier_share;
     pair.depth_b_m.data()[i] = static_cast<float>(z);
     pair.inverse_depth_gradient_sq.data()[i] = static_cast<float>(g2);
-    pair.inverse_depth_residual_per_m.data()[i] =
-        static_cast<float>(outlier ? 0.2 * (uniform(rng) - 0.5) : std::sqrt(2.0 * variance) * normal(rng));
+    const double k = 0.4 * (uniform(rng) - 0.5);  // depth changes by up to ±10 % between the frames
+    pair.bias_sensitivity.data()[i] = static_cast<float>(k);
+    pair.inverse_depth_residual_per_m.data()[i] = static_cast<float>(
+        outlier ? 0.2 * (uniform(rng) - 0.5) : k * bias_per_m + std::sqrt(2.0 * variance) * normal(rng));
     const double grey_a = 20.0 + 200.0 * uniform(rng);
     pair.grey_a.data()[i] = static_cast<float>(grey_a);
     pair.grey_gradient_sq.data()[i] = 0.0F;
@@ -55,7 +59,8 @@ TEST(NoiseEstimator, RecoversAKnownModelPastOutliersAndABrightnessChange) {
                               .pixels_per_sample = 1.0};
   std::mt19937 rng(11);
   NoiseEstimator estimator(kFocalBaseline_px_m);
-  for (int pair = 0; pair < 30; ++pair) estimator.addPair(drawPair(rng, truth, 2.7, 0.03));
+  constexpr double kBias_per_m = 1.5e-3;
+  for (int pair = 0; pair < 30; ++pair) estimator.addPair(drawPair(rng, truth, 2.7, 0.03, kBias_per_m));
   const NoiseEstimate estimate = estimator.estimate();
   EXPECT_NEAR(estimate.model.depth.disparity_sigma_px, 0.05, 0.02 * 0.05);
   EXPECT_NEAR(estimate.model.depth.quantisation_m, 0.01, 0.03 * 0.01);
@@ -65,10 +70,23 @@ TEST(NoiseEstimator, RecoversAKnownModelPastOutliersAndABrightnessChange) {
   EXPECT_NEAR(estimate.model.depth.pixels_per_sample, 1.0, 0.5);
   EXPECT_NEAR(estimate.model.intensity.pixels_per_sample, 1.0, 0.5);
   EXPECT_EQ(estimate.pairs, 30);
+  // Independent residuals: the pairs' scatter gives the statistical σ, and the bias is within 3 of them.
+  EXPECT_NEAR(estimate.remaining_inverse_depth_bias_per_m, kBias_per_m,
+              3.0 * estimate.remaining_inverse_depth_bias_sigma_per_m);
+  EXPECT_LT(estimate.remaining_inverse_depth_bias_sigma_per_m, 0.1 * kBias_per_m);
   EXPECT_FALSE(estimate.depth_bins.empty());
   for (const DepthBinNoise& bin : estimate.depth_bins) {
     EXPECT_NEAR(bin.inverse_depth_sigma_per_m, bin.fitted_sigma_per_m, 0.05 * bin.fitted_sigma_per_m) << bin.z_m;
   }
+}
+
+TEST(NoiseEstimator, RejectsAPairWhoseImagesDifferInSize) {
+  std::mt19937 rng(1);
+  PairResidualImages pair =
+      drawPair(rng, DepthNoiseModel{.disparity_sigma_px = 0.05, .focal_baseline_px_m = 36.0}, 2.7, 0.0, 0.0);
+  pair.bias_sensitivity.resize(8, 8);
+  NoiseEstimator estimator(kFocalBaseline_px_m);
+  EXPECT_THROW(estimator.addPair(pair), std::invalid_argument);
 }
 
 TEST(NoiseEstimator, NoPairsIsAnErrorThatSaysWhy) {

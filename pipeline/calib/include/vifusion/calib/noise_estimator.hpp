@@ -13,6 +13,10 @@
 // each refit trims at trim_sigmas of the previous fit's σ for that residual (kRefits times).
 // Intensity. Per pair, a brightness change I_b = α·I_a + β (auto exposure) is fitted by least squares to the
 // trimmed pairs and removed; then σ_I² + σ_px²·‖∇I‖² is fitted as for depth, with one bin.
+// Bias. A bias left in inverse depth adds k·δb to each depth residual (pair_residuals.hpp); δb is their weighted
+// least-squares fit over the inliers, Σ w k r / Σ w k² with w = 1 / var(r). Its σ comes from the scatter of the
+// pairs' own estimates (weighted by their Σ w k², divided by pairs − 1): errors shared across a whole image, such
+// as a depth staircase, make the pixels far from independent for this mean, beyond any correlation window.
 // Correlation. Residuals divided by their fitted σ (√2 σ per pair) feed residual_correlation.hpp; those beyond
 // trim_sigmas are left out.
 
@@ -46,9 +50,13 @@ struct DepthBinNoise {
 struct NoiseEstimate {
   CameraNoiseModel model;
   std::vector<DepthBinNoise> depth_bins;  ///< the bins the fit used, nearest first
-  std::int64_t depth_samples = 0;         ///< depth residuals kept after trimming
-  std::int64_t intensity_samples = 0;     ///< intensity residuals kept after trimming
-  int pairs = 0;                          ///< frame pairs added
+  /// Inverse-depth bias left after the calibration the frames were read with [1/m]: add it to that calibration's
+  /// inverse_depth_bias_per_m. Its σ from the pairs' scatter (0 with fewer than two pairs).
+  double remaining_inverse_depth_bias_per_m = 0.0;
+  double remaining_inverse_depth_bias_sigma_per_m = 0.0;
+  std::int64_t depth_samples = 0;      ///< depth residuals kept after trimming
+  std::int64_t intensity_samples = 0;  ///< intensity residuals kept after trimming
+  int pairs = 0;                       ///< frame pairs added
 };
 
 class NoiseEstimator {
@@ -58,6 +66,7 @@ class NoiseEstimator {
   NoiseEstimator(double focal_baseline_px_m, const NoiseEstimatorOptions& options = {});
 
   /// Keeps the pair's depth residuals and its brightness-corrected intensity residuals (a copy).
+  /// std::invalid_argument when its images differ in size.
   void addPair(const PairResidualImages& residuals);
 
   /// Fits the model. Throws vifusion::Error when no depth bin or too few intensity residuals were seen (the
@@ -69,6 +78,7 @@ class NoiseEstimator {
     Image<float> inverse_depth_residual_per_m;
     Image<float> depth_b_m;
     Image<float> inverse_depth_gradient_sq;
+    Image<float> bias_sensitivity;
     Image<float> intensity_residual;  ///< after the pair's brightness fit; NaN where none
     Image<float> grey_gradient_sq;
   };

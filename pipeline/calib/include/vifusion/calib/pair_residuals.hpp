@@ -9,8 +9,11 @@
 // exact up to noise, and the depth residual is r_ι = ι_b(u') − 1/z(p_b) [1/m]. The gradient is kept too:
 // noise in where a pixel samples the surface (lateral noise) shows as σ_px·‖∇ι‖. The wide stencil keeps the
 // gradient's noise small: it adds at most 2·(1/12)·(1/8) of one pixel's variance, 1 % of the residual's.
-// The intensity residual is likewise I_b(u') − I_a(u) on the 0–255 scale, before any brightness change
-// between the frames is removed (noise_estimator.hpp).
+// A bias b left in inverse depth (1/z_raw = 1/z + b, RigCalibration::inverse_depth_bias_per_m) does not cancel
+// between the frames when depth changes: r_ι gains k·b, k = ∂r_ι/∂b = 1 + ∇ι_b·∂u'/∂b − ∂(1/z(p_b))/∂b, where b
+// moves p_b by −z_a²·R_b_a·π⁻¹(u, 1) (a's depth) — which makes b observable from pairs that move along the view. The
+// intensity residual is likewise I_b(u') − I_a(u) on the 0–255 scale, before any brightness change between the frames
+// is removed (noise_estimator.hpp).
 //
 // Gates (a residual is NaN where one fails): every stencil tap has depth; the stencil lies on one smooth
 // surface, |ι(c+2) − 2ι(c) + ι(c−2)| ≤ max_relative_curvature · ι(c) along both axes in b and around u in a
@@ -44,6 +47,7 @@ struct PairResidualImages {
   Image<float> inverse_depth_residual_per_m;  ///< r_ι [1/m]
   Image<float> depth_b_m;                     ///< z(p_b): the depth the residual's noise belongs to [m]
   Image<float> inverse_depth_gradient_sq;     ///< ‖∇ι_b(c)‖² [(1/m)²/px²], for the lateral noise term
+  Image<float> bias_sensitivity;              ///< k = ∂r_ι/∂b [1] (see above)
   Image<float> grey_b_at_a;                   ///< I_b(u') [0–255]
   Image<float> grey_gradient_sq;              ///< ‖∇I_b(c)‖² [grey²/px²]
   Image<float> grey_a;                        ///< I_a(u) [0–255]

@@ -64,8 +64,8 @@ bool Slam::searchMap(std::int64_t t_imu_ns, std::span<const ImuSample> imu, Trac
   // "Up" in the camera: the accelerometer's mean over the gravity window, as the estimator's start takes it
   // (W = C here, so its q_I_W is q_I_C).
   const std::int64_t window_ns = estimator_->options().gravity_window_ns;
-  const auto gravity =
-      estimator::initialGravity(imu::bracketingSamples(imu, t_imu_ns - window_ns, t_imu_ns), SE3d(), T_S_C_);
+  const auto gravity = estimator::initialGravity(imu::bracketingSamples(imu, t_imu_ns - window_ns, t_imu_ns), SE3d(),
+                                                 T_S_C_, static_accel_bias_S_);
   if (!gravity) return false;
   const Eigen::Vector3d up_C = gravity->q_I_W.conjugate() * Eigen::Vector3d::UnitZ();
   const int n = loop::blockPoints(relocaliser_->frameImage(), prediction_->camera(0), relocaliser_->downsampleFactor(),

@@ -67,6 +67,7 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
       time_shift_cam_imu_ns_(calibration.time_shift_cam_imu_ns),
       T_S_C_(calibration.T_S_C),
       gravity_mps2_(calibration.imu.gravity_mps2),
+      static_accel_bias_S_(calibration.imu.static_accel_bias_mps2),
       mapping_(options.mapping),
       relocalisation_(options.relocalisation) {
   options.validate();
@@ -393,13 +394,14 @@ void Slam::startEstimator(std::int64_t t_imu_ns, std::span<const ImuSample> imu,
   if (previous == nullptr) {
     const std::int64_t window_ns = estimator_->options().gravity_window_ns;
     const std::span<const ImuSample> window = imu::bracketingSamples(imu, t_imu_ns - window_ns, t_imu_ns);
-    const auto gravity = estimator::initialGravity(window, result.T_W_C, T_S_C_);
+    const auto gravity = estimator::initialGravity(window, result.T_W_C, T_S_C_, static_accel_bias_S_);
     if (!gravity) {  // nothing to start from yet: try again at the next frame
       if (!result.imu_issue)
         result.imu_issue = imu::ImuSampleIssue{imu::ImuSampleProblem::kNoSamples, t_imu_ns, t_imu_ns};
       return;
     }
     x.q_I_W = gravity->q_I_W;
+    x.b_a = static_accel_bias_S_;  // the prior's mean; its σ is the IMU noise's accel_bias_prior
   }
   estimator_->initialise(t_imu_ns, x);
   result.inertial = true;

@@ -39,6 +39,23 @@ TEST(GravityInitialisation, FindsGravityInTheWorldFromARestingTiltedRig) {
   }
 }
 
+TEST(GravityInitialisation, RemovesAKnownStaticBiasBeforeTakingTheDirection) {
+  // A level rig at rest reading gravity's reaction plus the ZR300's static bias (Table I, real world): the
+  // bias tilts "up" by atan(|b_xy| / g) unless it is removed.
+  const Eigen::Vector3d static_bias_S(0.060, 0.258, 0.126);
+  std::vector<ImuSample> at_rest(20);
+  for (ImuSample& s : at_rest) s.accel_mps2 = Eigen::Vector3d(0.0, 0.0, 9.81) + static_bias_S;
+  const Eigen::Vector3d up_I = Eigen::Vector3d::UnitZ();
+  const auto ignored = initialGravity(at_rest, SE3d(), SE3d());
+  const auto removed = initialGravity(at_rest, SE3d(), SE3d(), static_bias_S);
+  ASSERT_TRUE(ignored && removed);
+  const double tilt_deg =
+      std::atan(static_bias_S.head<2>().norm() / (9.81 + static_bias_S.z())) * 180.0 / std::numbers::pi;
+  EXPECT_NEAR(angleDeg(ignored->q_I_W.conjugate() * up_I, up_I), tilt_deg, 1e-9);
+  EXPECT_NEAR(angleDeg(removed->q_I_W.conjugate() * up_I, up_I), 0.0, 1e-9);
+  EXPECT_TRUE(removed->mean_specific_force_S_mps2.isApprox(Eigen::Vector3d(0.0, 0.0, 9.81), 1e-12));
+}
+
 TEST(GravityInitialisation, RefusesWhatHasNoDirection) {
   EXPECT_FALSE(initialGravity({}, SE3d(), SE3d()).has_value());
   std::vector<ImuSample> free_fall(10);

@@ -15,13 +15,16 @@ namespace vifusion::estimator {
 
 struct GravityInitialisation {
   Eigen::Quaterniond q_I_W = Eigen::Quaterniond::Identity();
-  Eigen::Vector3d mean_specific_force_S_mps2 = Eigen::Vector3d::Zero();  ///< in S [m/s²]
+  Eigen::Vector3d mean_specific_force_S_mps2 = Eigen::Vector3d::Zero();  ///< in S, bias removed [m/s²]
   int samples = 0;
 };
 
-/// Averages the accelerometer over `samples` (the caller picks the window). nullopt when the span is
-/// empty or its mean is too short to have a direction (< 1 m/s²: free fall, or not an accelerometer).
+/// Averages the accelerometer over `samples` (the caller picks the window) less the known bias accel_bias_S
+/// [m/s², in S] (the calibration's static bias: the ZR300's 0.29 m/s² tilts "up" by 30 mrad otherwise). nullopt
+/// when the span is empty or its mean is too short to have a direction (< 1 m/s²: free fall, or not an
+/// accelerometer).
 std::optional<GravityInitialisation> initialGravity(std::span<const ImuSample> samples, const SE3d& T_W_C,
-                                                    const SE3d& T_S_C);
+                                                    const SE3d& T_S_C,
+                                                    const Eigen::Vector3d& accel_bias_S = Eigen::Vector3d::Zero());
 
 }  // namespace vifusion::estimator

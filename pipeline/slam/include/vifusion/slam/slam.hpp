@@ -274,6 +274,9 @@ class Slam {
   std::int64_t time_shift_cam_imu_ns_ = 0;
   SE3d T_S_C_;
   double gravity_mps2_ = 0.0;  ///< the calibration's |g|: E_imu's g_W in the inertial modes
+  /// The calibration's static accelerometer bias [m/s², in S]: the estimator's prior mean for b_a, and what the
+  /// first gravity direction removes from the mean reading.
+  Eigen::Vector3d static_accel_bias_S_ = Eigen::Vector3d::Zero();
   gpu::CapacityPlan plan_;
   std::unique_ptr<DenseTracker> tracker_;
   std::unique_ptr<map::MapBuffers> map_;

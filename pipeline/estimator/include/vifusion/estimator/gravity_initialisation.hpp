@@ -20,8 +20,8 @@ struct GravityInitialisation {
 };
 
 /// Averages the accelerometer over `samples` (the caller picks the window) less the known bias accel_bias_S
-/// [m/s², in S] (the calibration's static bias: the ZR300's 0.29 m/s² tilts "up" by 30 mrad otherwise). nullopt
-/// when the span is empty or its mean is too short to have a direction (< 1 m/s²: free fall, or not an
+/// [m/s², in S] (the calibration's static bias: Table I's 0.29 m/s² for the ZR300 tilts "up" by 27 mrad otherwise).
+/// nullopt when the span is empty or its mean is too short to have a direction (< 1 m/s²: free fall, or not an
 /// accelerometer).
 std::optional<GravityInitialisation> initialGravity(std::span<const ImuSample> samples, const SE3d& T_W_C,
                                                     const SE3d& T_S_C,

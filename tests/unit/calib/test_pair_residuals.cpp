@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "vifusion/calib/pair_residuals.hpp"
 #include "vifusion/core/error.hpp"
@@ -77,6 +78,45 @@ TEST(PairResiduals, ASlantedWallSeenTwiceLeavesNoResidual) {
   EXPECT_GT(grey_residuals, kCamera.width * kCamera.height / 2);
   EXPECT_LT(largest_depth, 2e-5);  // float rounding of ι ≈ 0.5 1/m; the simulator's noise is 1.4e-3
   EXPECT_LT(largest_grey, 0.02);   // grey is projective, not affine, in the pixel: second order over ½ px
+}
+
+TEST(PairResiduals, BiasSensitivityMatchesNumericDifferentiation) {
+  // k = ∂r_ι/∂b: add b to both frames' inverse depth (a bias the calibration left in) and difference the
+  // residuals. The wall is slanted and b moves towards it and sideways, so all three parts of k are at work.
+  const SE3d T_W_a = pose(0.05, 0.3, {0.0, 0.0, 0.0});
+  const SE3d T_W_b = pose(0.02, 0.26, {0.15, -0.03, 0.4});
+  const View a = render(T_W_a, 2.5);
+  const View b = render(T_W_b, 2.5);
+  constexpr float kBias_per_m = 1e-3F;
+  View a_biased = a;
+  View b_biased = b;
+  for (std::size_t i = 0; i < a.inverse_depth.pixelCount(); ++i) {
+    a_biased.inverse_depth.data()[i] += kBias_per_m;
+    b_biased.inverse_depth.data()[i] += kBias_per_m;
+  }
+  const SE3d T_b_a = T_W_b.inverse() * T_W_a;
+  PairResidualImages clean, biased;
+  computePairResiduals(kCamera, a.inverse_depth.view(), a.grey.view(), b.inverse_depth.view(), b.grey.view(), T_b_a,
+                       PairResidualOptions{}, clean);
+  computePairResiduals(kCamera, a_biased.inverse_depth.view(), a_biased.grey.view(), b_biased.inverse_depth.view(),
+                       b_biased.grey.view(), T_b_a, PairResidualOptions{}, biased);
+  int compared = 0;
+  double largest_k = 0.0;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < clean.bias_sensitivity.pixelCount(); ++i) {
+    const double k = clean.bias_sensitivity.data()[i];
+    const double r0 = clean.inverse_depth_residual_per_m.data()[i];
+    const double r1 = biased.inverse_depth_residual_per_m.data()[i];
+    if (!std::isfinite(k) || !std::isfinite(r0) || !std::isfinite(r1)) continue;
+    const double numeric = (r1 - r0) / kBias_per_m;
+    EXPECT_NEAR(numeric, k, 0.005) << i;  // float ι (1e-7 of 1e-3 per value) and b²-order terms
+    largest_k = std::max(largest_k, std::abs(k));
+    worst = std::max(worst, std::abs(numeric - k));
+    ++compared;
+  }
+  EXPECT_GT(compared, kCamera.width * kCamera.height / 3);
+  EXPECT_GT(largest_k, 0.2);  // the motion does change depth: k is far from 0
+  std::printf("largest k %.3f, worst error %.2e\n", largest_k, worst);
 }
 
 TEST(PairResidualsGates, ADepthEdgeInTheStencilGivesNoResidual) {

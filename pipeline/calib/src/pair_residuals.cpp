@@ -52,21 +52,21 @@ void PairResidualOptions::validate() const {
   if (!(max_intensity_curvature > 0.0)) throw Error("pair-residual option 'max_intensity_curvature' must be > 0");
 }
 
+void PairResidualImages::resize(int width, int height) {
+  if (inverse_depth_residual_per_m.width() == width && inverse_depth_residual_per_m.height() == height) return;
+  for (Image<float>* image : {&inverse_depth_residual_per_m, &depth_b_m, &inverse_depth_gradient_sq, &bias_sensitivity,
+                              &grey_b_at_a, &grey_a, &grey_gradient_sq}) {
+    image->resize(width, height);
+  }
+}
+
 void computePairResiduals(const PinholeCamera& camera, ImageView<const float> inverse_depth_a,
                           ImageView<const float> grey_a, ImageView<const float> inverse_depth_b,
                           ImageView<const float> grey_b, const SE3d& T_b_a, const PairResidualOptions& options,
                           PairResidualImages& out) {
   const int width = inverse_depth_a.width;
   const int height = inverse_depth_a.height;
-  if (out.inverse_depth_residual_per_m.width() != width || out.inverse_depth_residual_per_m.height() != height) {
-    out.inverse_depth_residual_per_m.resize(width, height);
-    out.depth_b_m.resize(width, height);
-    out.inverse_depth_gradient_sq.resize(width, height);
-    out.bias_sensitivity.resize(width, height);
-    out.grey_b_at_a.resize(width, height);
-    out.grey_gradient_sq.resize(width, height);
-    out.grey_a.resize(width, height);
-  }
+  out.resize(width, height);
   const Eigen::Matrix3d R_b_a = T_b_a.rotationMatrix();
   const Eigen::Vector3d t_b_a = T_b_a.translation();
   for (int y = 0; y < height; ++y) {

@@ -18,13 +18,7 @@ PairResidualImages drawPair(std::mt19937& rng, const DepthNoiseModel& depth, dou
                             double bias_per_m) {
   constexpr int kWidth = 160, kHeight = 120;
   PairResidualImages pair;
-  pair.inverse_depth_residual_per_m.resize(kWidth, kHeight);
-  pair.depth_b_m.resize(kWidth, kHeight);
-  pair.inverse_depth_gradient_sq.resize(kWidth, kHeight);
-  pair.bias_sensitivity.resize(kWidth, kHeight);
-  pair.grey_b_at_a.resize(kWidth, kHeight);
-  pair.grey_a.resize(kWidth, kHeight);
-  pair.grey_gradient_sq.resize(kWidth, kHeight);
+  pair.resize(kWidth, kHeight);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> normal(0.0, 1.0);
   const double a = depth.inverseDepthSigma() * depth.inverseDepthSigma();

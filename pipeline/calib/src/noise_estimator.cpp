@@ -63,6 +63,13 @@ std::pair<double, std::int64_t> trimmedVariance(const std::vector<double>& value
   return {(sum_sq - static_cast<double>(count) * mean * mean) / static_cast<double>(count - 1), count};
 }
 
+/// The sensor's variance the fitted coefficients give for a residual with these features (floored).
+template <int N>
+double modelVariance(const typename VarianceFit<N>::Coefficients& coefficients,
+                     const typename VarianceFit<N>::Features& features) {
+  return std::max(coefficients.dot(features), kSmallestVariance);
+}
+
 /// A residual of a pair (variance 2·σ² for the sensor's σ²) within trim_sigmas of zero.
 bool isInlier(double residual, double variance, double trim_sigmas) {
   return std::abs(residual) <= trim_sigmas * std::sqrt(2.0 * variance);
@@ -76,7 +83,7 @@ typename VarianceFit<N>::Coefficients refitTrimmed(typename VarianceFit<N>::Coef
   for (int refit = 0; refit < kRefits; ++refit) {
     VarianceFit<N> fit;
     for_each([&](const auto&, std::size_t, double r, const typename VarianceFit<N>::Features& f) {
-      const double variance = std::max(coefficients.dot(f), kSmallestVariance);
+      const double variance = modelVariance<N>(coefficients, f);
       if (isInlier(r, variance, trim_sigmas)) fit.add(r, f, 1.0 / (variance * variance));
     });
     coefficients = fit.solve();
@@ -221,7 +228,7 @@ NoiseEstimate NoiseEstimator::estimate() const {
     first_depth.add(r, f, 1.0 / (bin_variance[bin] * bin_variance[bin]));
   });
   DepthFit::Coefficients depth = first_depth.solve();
-  const auto depth_variance = [&](const DepthFit::Features& f) { return std::max(depth.dot(f), kSmallestVariance); };
+  const auto depth_variance = [&](const DepthFit::Features& f) { return modelVariance<3>(depth, f); };
   const auto kept = [&](double r, double variance) { return isInlier(r, variance, options_.trim_sigmas); };
   depth = refitTrimmed<3>(depth, for_each_depth, options_.trim_sigmas, estimate.depth_samples);
   DepthNoiseModel& depth_model = estimate.model.depth;
@@ -260,7 +267,7 @@ NoiseEstimate NoiseEstimator::estimate() const {
     if (intensity_window.contains(r)) first_intensity.add(r, f, 1.0);
   });
   IntensityFit::Coefficients grey = first_intensity.solve();
-  const auto grey_variance = [&](const IntensityFit::Features& f) { return std::max(grey.dot(f), kSmallestVariance); };
+  const auto grey_variance = [&](const IntensityFit::Features& f) { return modelVariance<2>(grey, f); };
   grey = refitTrimmed<2>(grey, for_each_intensity, options_.trim_sigmas, estimate.intensity_samples);
   estimate.model.intensity.sigma = std::sqrt(grey(0));
   estimate.model.intensity.lateral_sigma_px = std::sqrt(grey(1));
@@ -288,6 +295,8 @@ NoiseEstimate NoiseEstimator::estimate() const {
   }
   depth_model.correlation_px = depth_correlation.correlationLength_px();
   depth_model.pixels_per_sample = depth_correlation.pixelsPerSample();
+  estimate.model.intensity.correlation_px = intensity_correlation.correlationLength_px();
+  estimate.model.intensity.pixels_per_sample = intensity_correlation.pixelsPerSample();
 
   // The bias left in inverse depth, from the inliers of the depth fit; its σ from the scatter of the pairs' own
   // estimates, which holds whatever the residuals share across a whole image.
@@ -319,8 +328,6 @@ NoiseEstimate NoiseEstimator::estimate() const {
     estimate.remaining_inverse_depth_bias_sigma_per_m =
         std::sqrt(scatter / (static_cast<double>(pairs_.size() - 1) * sum_wkk));
   }
-  estimate.model.intensity.correlation_px = intensity_correlation.correlationLength_px();
-  estimate.model.intensity.pixels_per_sample = intensity_correlation.pixelsPerSample();
   return estimate;
 }
 

@@ -47,7 +47,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   run->add_option(
       "--calibration", run_options.calibration,
-      "zr300: the rig's calibration.yaml (Kalibr cam0, cam1, imu0 keys); its image size picks the stream preset");
+      "The rig's calibration.yaml (Kalibr cam0, cam1, imu0 keys; depth_noise and inverse_depth_bias_per_m from "
+      "`calib noise --out`). zr300: its image size picks the stream preset; a recorded source is read with it in "
+      "place of its own");
   run->add_option("--mode", run_options.mode, "rgbd, rgbdi (tightly coupled IMU) or gyro (gyroscope only)")
       ->capture_default_str();
   run->add_option("--out", run_options.out, "Output directory")->capture_default_str();
@@ -161,7 +163,8 @@ int main(int argc, char** argv) {
       "of ROS 2 messages; or --recover a recording that was cut short");
   record_command->add_option("--source", record.source, "zr300[:SERIAL] or any source of `vifusion run`")
       ->capture_default_str();
-  record_command->add_option("--calibration", record.calibration, "zr300: the rig's calibration.yaml");
+  record_command->add_option("--calibration", record.calibration,
+                             "The rig's calibration.yaml (zr300; a recorded source: in place of its own)");
   record_command->add_option("--mode", record.mode, "rgbd records no IMU; rgbdi and gyro record it")
       ->capture_default_str()
       ->check(CLI::IsMember({"rgbd", "rgbdi", "gyro"}));
@@ -183,7 +186,8 @@ int main(int argc, char** argv) {
       "exit code 1 when a check fails");
   synccheck_command->add_option("--source", sync.source, "zr300[:SERIAL] (live) or rec:FILE.mcap")
       ->capture_default_str();
-  synccheck_command->add_option("--calibration", sync.calibration, "zr300: the rig's calibration.yaml");
+  synccheck_command->add_option("--calibration", sync.calibration,
+                                "The rig's calibration.yaml (zr300; a recorded source: in place of its own)");
   synccheck_command->add_option("--gpio", sync.gpio, "Live: the sync line CHIP:LINE");
   std::string polarity = "rising";
   synccheck_command->add_option("--edges", polarity, "The edge of each strobe pulse")

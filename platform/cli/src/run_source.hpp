@@ -23,9 +23,11 @@ inline constexpr std::size_t kLiveReservedFrames = 108'000;
 
 struct SourceRequest {
   std::string spec;  ///< sim:NAME, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR, rec:FILE, zr300[:SERIAL]
-  std::string calibration;  ///< zr300: the rig's calibration.yaml
-  std::string out;          ///< where a sim:NAME sequence is generated (<out>/sim_NAME)
-  bool inertial = false;    ///< the IMU is needed (zr300: the motion module is opened only then)
+  /// The rig's calibration.yaml (kalibr.hpp's schema): zr300 reads it; a recorded source is read with it in
+  /// place of its own (datasets::withCalibration). Empty: the recording's own.
+  std::string calibration;
+  std::string out;        ///< where a sim:NAME sequence is generated (<out>/sim_NAME)
+  bool inertial = false;  ///< the IMU is needed (zr300: the motion module is opened only then)
   /// zr300: keep the motion module's transfers as received (Zr300Source::rawTransferRing()), this many at most.
   std::size_t raw_transfers = 0;
 };

@@ -16,7 +16,9 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
   return {
       {"source", "sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE or the live camera zr300[:SERIAL]",
        &c.source},
-      {"calibration", "zr300: the rig's calibration.yaml (Kalibr cam0/imu0 keys; its image size picks the stream)",
+      {"calibration",
+       "The rig's calibration.yaml (Kalibr cam0/imu0 keys). zr300: its image size picks the stream; a recorded "
+       "source is read with it in place of its own",
        &c.calibration},
       {"out", "State directory: trajectory.txt, map.ply (written atomically), generated sim data", &c.out},
       {"mode", "rgbd, rgbdi (camera + IMU, needs a source with IMU data) or gyro (camera + gyroscope)", &c.mode},

@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/datasets/kalibr.hpp"
+#include "vifusion/datasets/recalibrated_reader.hpp"
 #include "vifusion/recording/open_recorded.hpp"
 #include "vifusion/service/log.hpp"
 #ifdef VIFUSION_WITH_ZR300
@@ -89,12 +91,16 @@ OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
 #endif
   if (!source.starts_with("sim:")) {
     opened.reader = recording::openRecorded(source);
-    return opened;
+  } else {
+    const std::string preset = source.substr(4);
+    const std::filesystem::path dir = std::filesystem::path(config.out) / ("sim_" + preset);
+    if (!std::filesystem::exists(dir / "rgb.txt")) generateSim(preset, dir);
+    opened.reader = datasets::openDataset("dataset:" + dir.string());
   }
-  const std::string preset = source.substr(4);
-  const std::filesystem::path dir = std::filesystem::path(config.out) / ("sim_" + preset);
-  if (!std::filesystem::exists(dir / "rgb.txt")) generateSim(preset, dir);
-  opened.reader = datasets::openDataset("dataset:" + dir.string());
+  if (!config.calibration.empty()) {  // the rig's calibration in place of the recording's own
+    opened.reader = datasets::withCalibration(std::move(opened.reader),
+                                              datasets::readCalibrationYaml(config.calibration), config.calibration);
+  }
   return opened;
 }
 

@@ -5,14 +5,16 @@
 #include "vifusion/datasets/euroc_imu.hpp"
 #include "vifusion/datasets/ground_truth_states.hpp"
 #include "vifusion/datasets/kalibr.hpp"
+#include "vifusion/datasets/recalibrated_reader.hpp"
 #include "vifusion/datasets/vifusion_dataset_reader.hpp"
 
 namespace vifusion::datasets::test {
 namespace {
 
 TEST(OpenDataset, UnknownPrefixListsTheValidOnes) {
-  expectError([] { openDataset("euroc:/data/V1_01"); },
-              "unknown dataset source 'euroc:/data/V1_01'; valid: tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR");
+  expectError(
+      [] { openDataset("euroc:/data/V1_01"); },
+      "unknown dataset source 'euroc:/data/V1_01'; valid: tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, dataset:DIR");
   expectError([] { openDataset("/just/a/path"); }, "unknown dataset source '/just/a/path'");
   expectError([] { openDataset("tum:"); }, "no path after 'tum:'");
 }
@@ -89,6 +91,40 @@ TEST_F(VifusionDatasetTest, ImuIsRequired) {
 TEST_F(VifusionDatasetTest, CalibrationIsRequired) {
   std::filesystem::remove(tmp_ / "calibration.yaml");
   expectError([&] { VifusionDatasetReader reader(tmp_.path()); }, "calibration.yaml: cannot open file");
+}
+
+TEST_F(VifusionDatasetTest, ARigCalibrationReplacesTheRecordingsOwn) {
+  RigCalibration rig = calibration_;
+  rig.inverse_depth_bias_per_m = 1.5e-3;
+  rig.camera.fx = 121.0;
+  const std::unique_ptr<DatasetReader> reader =
+      withCalibration(openDataset("dataset:" + tmp_.path().string()), rig, "rig.yaml");
+  EXPECT_EQ(reader->calibration().inverse_depth_bias_per_m, 1.5e-3);
+  EXPECT_EQ(reader->calibration().camera.fx, 121.0);
+  EXPECT_NE(reader->describe().find("calibration from rig.yaml in place of its own"), std::string::npos)
+      << reader->describe();
+  // Frames, IMU and ground truth are the recording's.
+  ASSERT_EQ(reader->frameCount(), 2u);
+  RgbdFrame frame;
+  ASSERT_TRUE(reader->nextFrame(frame));
+  EXPECT_TRUE(holdsPattern(frame, 0));
+  ASSERT_TRUE(reader->nextFrame(frame));
+  EXPECT_TRUE(holdsPattern(frame, 1));
+  EXPECT_FALSE(reader->nextFrame(frame));
+  EXPECT_EQ(reader->imu().size(), 7u);
+  EXPECT_EQ(reader->groundTruth().size(), 1u);
+  EXPECT_EQ(reader->groundTruthStates().size(), 7u);
+}
+
+TEST_F(VifusionDatasetTest, ARigCalibrationMustDescribeTheSameImages) {
+  RigCalibration other_size = calibration_;
+  other_size.camera = PinholeCamera::create(320, 240, 240.6, 240.6, 159.5, 119.5);
+  expectError([&] { withCalibration(openDataset("dataset:" + tmp_.path().string()), other_size, "rig.yaml"); },
+              "rig.yaml: its camera is 320×240 px but the recording's images are 160×120 px");
+  RigCalibration other_units = calibration_;
+  other_units.depth_scale_m = 1e-3;
+  expectError([&] { withCalibration(openDataset("dataset:" + tmp_.path().string()), other_units, "rig.yaml"); },
+              "rig.yaml: depth_scale_m 0.001 m per unit differs from the recording's 0.0002");
 }
 
 }  // namespace

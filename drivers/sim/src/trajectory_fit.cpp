@@ -20,12 +20,6 @@ constexpr int kK = Se3Spline::kOrder;
 /// biased.
 constexpr int kPenalisedDerivative = 3;
 
-/// The roughness matrix integrates u-derivatives over a unit segment; dividing by Δt^(2n−1) [s⁵] turns it into
-/// ∫|dⁿp/dtⁿ|² dt, which the weight [s⁵] brings to the units of the data term.
-double penaltyScale(double weight, std::int64_t dt_ns) {
-  return weight / std::pow(nsToSeconds(dt_ns), 2 * kPenalisedDerivative - 1);
-}
-
 void validate(const std::vector<StampedPose>& poses, const TrajectoryFitOptions& options) {
   if (poses.size() < 2) throw Error("fitTrajectory: needs at least 2 poses, got " + std::to_string(poses.size()));
   for (std::size_t i = 1; i < poses.size(); ++i) {
@@ -37,8 +31,8 @@ void validate(const std::vector<StampedPose>& poses, const TrajectoryFitOptions&
   }
   if (options.subsample < 1) throw Error("fitTrajectory: subsample must be ≥ 1");
   if (options.knot_spacing_ns < 0) throw Error("fitTrajectory: knot_spacing_ns must be ≥ 0");
-  if (!std::isfinite(options.smoothing_weight) || options.smoothing_weight < 0.0) {
-    throw Error("fitTrajectory: smoothing_weight must be finite and ≥ 0");
+  if (!std::isfinite(options.smoothing) || options.smoothing < 0.0) {
+    throw Error("fitTrajectory: smoothing must be finite and ≥ 0");
   }
   if (options.max_iterations < 0) throw Error("fitTrajectory: max_iterations must be ≥ 0");
 }
@@ -82,7 +76,7 @@ Eigen::Quaterniond interpolateSampleRotation(const std::vector<StampedPose>& sam
 
 /// Control positions by penalised linear least squares (one normal-equation solve shared by x, y, z).
 std::vector<Eigen::Vector3d> fitPositions(const Se3Spline& layout, const std::vector<StampedPose>& samples_W_S,
-                                          double weight) {
+                                          double smoothing) {
   const int n = static_cast<int>(layout.controlPositions().size());
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
   Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 3);
@@ -97,8 +91,10 @@ std::vector<Eigen::Vector3d> fitPositions(const Se3Spline& layout, const std::ve
     D(j, j) = -1.0;
     D(j, j + 1) = 1.0;
   }
-  const Eigen::Matrix<double, kK, kK> H_segment = penaltyScale(weight, layout.knotSpacingNs()) * D.transpose() *
-                                                  Se3Spline::roughnessMatrix(kPenalisedDerivative) * D;
+  // The roughness matrix integrates u-derivatives over a unit segment, ∫|dⁿp/duⁿ|² du = Δt^(2n−1)·∫|dⁿp/dtⁿ|² dt,
+  // so TrajectoryFitOptions::smoothing's penalty λ·Δt⁵·∫|p⃛|² dt is λ times it, whatever the knot spacing.
+  const Eigen::Matrix<double, kK, kK> H_segment =
+      smoothing * D.transpose() * Se3Spline::roughnessMatrix(kPenalisedDerivative) * D;
   for (int segment = 0; segment < layout.numSegments(); ++segment) H.block<kK, kK>(segment, segment) += H_segment;
 
   const Eigen::MatrixXd c = H.ldlt().solve(rhs);
@@ -125,8 +121,7 @@ RotationFit fitRotations(const Se3Spline& initial, const std::vector<StampedPose
   Eigen::Matrix<double, 3 * (kK - 1), 3 * (kK - 1)> W;
   for (int j = 0; j + 1 < kK; ++j) {
     for (int l = 0; l + 1 < kK; ++l) {
-      W.block<3, 3>(3 * j, 3 * l) =
-          penaltyScale(options.smoothing_weight, dt_ns) * Q(j, l) * Eigen::Matrix3d::Identity();
+      W.block<3, 3>(3 * j, 3 * l) = options.smoothing * Q(j, l) * Eigen::Matrix3d::Identity();
     }
   }
 
@@ -185,8 +180,14 @@ FitResiduals fitResiduals(const TrajectoryFit& fit, const std::vector<StampedPos
         logSO3(T_W_C.quaternion().conjugate() * pose.T_world_body.quaternion()).norm() * 180.0 / std::numbers::pi;
     sum_sq_position_mm2 += position_mm * position_mm;
     sum_sq_rotation_deg2 += rotation_deg * rotation_deg;
-    out.max_position_mm = std::max(out.max_position_mm, position_mm);
-    out.max_rotation_deg = std::max(out.max_rotation_deg, rotation_deg);
+    if (position_mm > out.max_position_mm) {
+      out.max_position_mm = position_mm;
+      out.max_position_t_ns = pose.t_ns;
+    }
+    if (rotation_deg > out.max_rotation_deg) {
+      out.max_rotation_deg = rotation_deg;
+      out.max_rotation_t_ns = pose.t_ns;
+    }
     ++out.count;
   }
   if (out.count > 0) {
@@ -194,6 +195,11 @@ FitResiduals fitResiduals(const TrajectoryFit& fit, const std::vector<StampedPos
     out.rms_rotation_deg = std::sqrt(sum_sq_rotation_deg2 / out.count);
   }
   return out;
+}
+
+bool withinTolerance(const FitResiduals& residuals, const FitTolerance& tolerance) {
+  return residuals.max_position_mm <= tolerance.max_position_mm &&
+         residuals.max_rotation_deg <= tolerance.max_rotation_deg;
 }
 
 TrajectoryFit fitTrajectory(const std::vector<StampedPose>& poses_W_C, const SE3d& T_S_C,
@@ -208,9 +214,9 @@ TrajectoryFit fitTrajectory(const std::vector<StampedPose>& poses_W_C, const SE3
   const Knots knots = chooseKnots(poses_W_C, options);
   const std::int64_t t0_ns = poses_W_C.front().t_ns;
   const int n = knots.segments + kK - 1;
-  if (options.smoothing_weight == 0.0 && static_cast<std::size_t>(n) > samples_W_S.size()) {
+  if (options.smoothing == 0.0 && static_cast<std::size_t>(n) > samples_W_S.size()) {
     throw Error("fitTrajectory: " + std::to_string(n) + " control points but only " +
-                std::to_string(samples_W_S.size()) + " samples; the fit needs smoothing_weight > 0");
+                std::to_string(samples_W_S.size()) + " samples; the fit needs smoothing > 0");
   }
 
   // The layout (knots) is all the position fit needs; the rotations start from the samples.
@@ -220,7 +226,7 @@ TrajectoryFit fitTrajectory(const std::vector<StampedPose>& poses_W_C, const SE3
   std::vector<Eigen::Quaterniond> q_initial(static_cast<std::size_t>(n));
   for (int m = 0; m < n; ++m)
     q_initial[static_cast<std::size_t>(m)] = interpolateSampleRotation(samples_W_S, layout.controlCentreTimeNs(m));
-  const std::vector<Eigen::Vector3d> p_W_m = fitPositions(layout, samples_W_S, options.smoothing_weight);
+  const std::vector<Eigen::Vector3d> p_W_m = fitPositions(layout, samples_W_S, options.smoothing);
   const RotationFit rotations = fitRotations(Se3Spline(t0_ns, knots.dt_ns, p_W_m, q_initial), samples_W_S, options);
 
   TrajectoryFit fit{Se3Spline(t0_ns, knots.dt_ns, p_W_m, rotations.q_W_S),

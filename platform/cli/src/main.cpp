@@ -116,6 +116,11 @@ int main(int argc, char** argv) {
   sim_command->add_option("--height", sim.height, "Image height [px]")
       ->capture_default_str()
       ->check(CLI::Range(16, 4096));
+  sim_command
+      ->add_option("--fit-stride", sim.fit_stride,
+                   "Fit the ground-truth spline through every n-th pose (default: the preset's, else 10 as the paper); "
+                   "smaller follows faster motion")
+      ->check(CLI::Range(1, 1000));
   sim_command->add_option("--duration", sim.duration_s, "Only the first seconds (0: whole path)")
       ->capture_default_str();
   sim_command

@@ -6,8 +6,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <iomanip>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "dataset_writer.hpp"
 #include "progress_bar.hpp"
@@ -85,6 +87,26 @@ nlohmann::json residualsJson(const sim::FitResiduals& r) {
           {"max_rotation_deg", r.max_rotation_deg}};
 }
 
+/// The ground truth must be the path that was asked for: a fit beyond sim::FitTolerance at its own samples is
+/// refused, naming the worst of them.
+void requireFitFollowsPath(const sim::TrajectoryFit& fit, const std::vector<sim::StampedPose>& path, int stride) {
+  const sim::FitTolerance tolerance;
+  if (sim::withinTolerance(fit.at_samples, tolerance)) return;
+  const sim::FitResiduals& r = fit.at_samples;
+  const bool rotation = r.max_rotation_deg > tolerance.max_rotation_deg;
+  const int64_t t_ns = rotation ? r.max_rotation_t_ns : r.max_position_t_ns;
+  const auto pose = std::find_if(path.begin(), path.end(), [&](const sim::StampedPose& p) { return p.t_ns == t_ns; });
+  std::ostringstream message;
+  message << std::fixed << std::setprecision(6) << "the ground-truth spline through one pose in " << stride
+          << " cannot follow the path: it misses pose " << (pose - path.begin()) << " (t = " << nsToSeconds(t_ns)
+          << " s) by " << std::setprecision(3) << (rotation ? r.max_rotation_deg : r.max_position_mm)
+          << (rotation ? "°" : " mm") << ", beyond the "
+          << (rotation ? tolerance.max_rotation_deg : tolerance.max_position_mm) << (rotation ? "°" : " mm")
+          << " tolerance (worst: " << r.max_position_mm << " mm, " << r.max_rotation_deg
+          << "°); the path moves too fast for that stride: fit more densely with --fit-stride N (N < " << stride << ")";
+  throw Error(message.str());
+}
+
 }  // namespace
 
 int runSim(const SimOptions& options) {
@@ -104,8 +126,9 @@ int runSim(const SimOptions& options) {
   const bool synthetic_preset = !options.preset.empty() && options.preset.rfind("living_room_", 0) != 0;
   const sim::PresetTraits traits = synthetic_preset ? sim::presetTraits(options.preset) : sim::PresetTraits{};
   sim::TrajectoryFitOptions fit_options;
-  fit_options.subsample = traits.fit_subsample;
+  fit_options.subsample = options.fit_stride > 0 ? options.fit_stride : traits.fit_subsample;
   const sim::TrajectoryFit fit = sim::fitTrajectory(path, defaultT_S_C(), fit_options);
+  requireFitFollowsPath(fit, path, fit_options.subsample);
 
   RigCalibration calibration;
   const double scale = options.width / 640.0;
@@ -211,6 +234,7 @@ int runSim(const SimOptions& options) {
                             {"frames", frames},
                             {"imu_samples", imu.samples.size()},
                             {"duration_s", nsToSeconds(t_end_ns - fit.first_pose_ns)},
+                            {"fit_stride", fit_options.subsample},
                             {"fit_at_samples", residualsJson(fit.at_samples)},
                             {"fit_at_all_poses", residualsJson(fit.at_all_poses)},
                             {"gyro_clipped_samples", imu.gyro_clipped_samples},

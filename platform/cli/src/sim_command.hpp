@@ -1,8 +1,9 @@
 #pragma once
 // `vifusion sim`: the synthetic RGB-D-inertial benchmark, reproducing the paper's recipe. A camera
 // path (an ICL-NUIM living-room trajectory, a synthetic preset or any TUM file) is fitted with a
-// smooth spline through every 10th pose; the spline is the ground truth from which the IMU is
-// simulated (Table I noise) and the procedural living room is rendered with ICL-NUIM-style noise.
+// smooth spline through every 10th pose (--fit-stride), refused when it cannot follow them; the spline is the ground
+// truth from which the IMU is simulated (Table I noise) and the procedural living room is rendered with ICL-NUIM-style
+// noise.
 
 #include <cstdint>
 #include <string>
@@ -19,6 +20,9 @@ struct SimOptions {
   uint64_t seed = 1;     ///< same seed, same dataset
   int width = 640;       ///< image size [px]; intrinsics scale with it
   int height = 480;
+  /// The spline goes through every fit_stride-th pose; 0: the preset's (sim::PresetTraits), else 10. A fit that
+  /// misses its own samples beyond sim::FitTolerance is refused, naming the worst pose.
+  int fit_stride = 0;
   double duration_s = 0.0;  ///< > 0: only the first duration_s seconds
   /// A covered camera (a hand over the lens): frames from cover_start_s for cover_s seconds after the first
   /// frame are black with no depth, the IMU and the ground truth go on. cover_s 0: never covered.

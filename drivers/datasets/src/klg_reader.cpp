@@ -67,7 +67,8 @@ KlgReader::KlgReader(const std::filesystem::path& path)
     if (record.depth_size <= 0) throw Error(frame + "depth size " + std::to_string(record.depth_size) + " must be > 0");
     if (record.image_size < 0) throw Error(frame + "image size " + std::to_string(record.image_size) + " is negative");
     const std::uint64_t left = file_size - record.offset;
-    const std::uint64_t needed = static_cast<std::uint64_t>(record.depth_size) + static_cast<std::uint64_t>(record.image_size);
+    const std::uint64_t needed =
+        static_cast<std::uint64_t>(record.depth_size) + static_cast<std::uint64_t>(record.image_size);
     if (needed > left) {
       throw Error(frame + "depth (" + std::to_string(record.depth_size) + " bytes) and image (" +
                   std::to_string(record.image_size) + " bytes) run past the end of the file (" + std::to_string(left) +
@@ -95,8 +96,9 @@ void KlgReader::readAt(std::uint64_t offset, void* bytes, std::size_t size, cons
 
 bool KlgReader::nextFrame(RgbdFrame& frame) {
   if (next_ >= records_.size()) return false;
-  const FrameRecord& record = records_[next_];
-  const std::string what = "frame " + std::to_string(next_);
+  const std::size_t index = next_++;  // past it even when it cannot be read: the caller may skip it
+  const FrameRecord& record = records_[index];
+  const std::string what = "frame " + std::to_string(index);
   if (frame.depth.width() != kWidth || frame.depth.height() != kHeight) frame.depth.resize(kWidth, kHeight);
   if (frame.rgb.width() != kWidth || frame.rgb.height() != kHeight) frame.rgb.resize(kWidth, kHeight);
 
@@ -127,9 +129,8 @@ bool KlgReader::nextFrame(RgbdFrame& frame) {
     decoder_->decodeRgbOrder(compressed_, name_ + " " + what + " JPEG colour", kWidth, kHeight, frame.rgb);
   }
   frame.t_ns = record.t_ns;
-  frame.index = static_cast<std::int64_t>(next_);
+  frame.index = static_cast<std::int64_t>(index);
   frame.depth_scale_m = calibration_.depth_scale_m;
-  ++next_;
   return true;
 }
 

@@ -1,8 +1,8 @@
 #include "vifusion/datasets/seven_scenes_reader.hpp"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cstdio>
-#include <Eigen/SVD>
 #include <sstream>
 
 #include "image_files.hpp"
@@ -145,7 +145,8 @@ SevenScenesReader::~SevenScenesReader() = default;
 
 bool SevenScenesReader::nextFrame(RgbdFrame& frame) {
   if (next_ >= frame_numbers_.size()) return false;
-  const int number = frame_numbers_[next_];
+  const std::size_t index = next_++;  // past it even when it cannot be read: the caller may skip it
+  const int number = frame_numbers_[index];
   const int width = calibration_.camera.width;
   const int height = calibration_.camera.height;
   decoder_->readDepthPng(frames_dir_, frameName(number, "depth.png"), width, height, frame.depth);
@@ -154,19 +155,17 @@ bool SevenScenesReader::nextFrame(RgbdFrame& frame) {
   std::uint16_t* depth = frame.depth.data();
   std::replace(depth, depth + frame.depth.pixelCount(), std::uint16_t{65535}, std::uint16_t{0});
   frame.t_ns = frameTimeNs(number);
-  frame.index = static_cast<std::int64_t>(next_);
+  frame.index = static_cast<std::int64_t>(index);
   frame.depth_scale_m = calibration_.depth_scale_m;
-  ++next_;
   return true;
 }
 
 std::string SevenScenesReader::describe() const {
   const PinholeCamera& c = calibration_.camera;
   std::ostringstream out;
-  out << "7-Scenes '" << dir_.string() << "': " << frame_numbers_.size() << " frames (frame-"
-      << frame_numbers_.front() << " … " << frame_numbers_.back() << "), stamps = frame number / 30 s, intrinsics "
-      << c.fx << "/" << c.fy << "/" << c.cx << "/" << c.cy
-      << (intrinsics_from_file_ ? " from camera-intrinsics.txt" : " (7-Scenes default)") << ", "
+  out << "7-Scenes '" << dir_.string() << "': " << frame_numbers_.size() << " frames (frame-" << frame_numbers_.front()
+      << " … " << frame_numbers_.back() << "), stamps = frame number / 30 s, intrinsics " << c.fx << "/" << c.fy << "/"
+      << c.cx << "/" << c.cy << (intrinsics_from_file_ ? " from camera-intrinsics.txt" : " (7-Scenes default)") << ", "
       << ground_truth_.size() << " KinectFusion poses";
   return out.str();
 }

@@ -49,16 +49,17 @@ PinholeCamera TumReader::intrinsicsForFolder(const std::string& folder_name) {
   return PinholeCamera::create(640, 480, 525.0, 525.0, 319.5, 239.5);
 }
 
-TumReader::TumReader(const std::filesystem::path& dir)
-    : dir_(dir), decoder_(std::make_unique<detail::ImageDecoder>()) {
+TumReader::TumReader(const std::filesystem::path& dir) : dir_(dir), decoder_(std::make_unique<detail::ImageDecoder>()) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir_, ec)) throw Error("tum: '" + dir_.string() + "' is not a directory");
   // absolute + normal form so that "tum:." and "tum:seq/" still name the sequence folder.
   const std::filesystem::path folder = std::filesystem::absolute(dir_, ec).lexically_normal();
-  calibration_.camera = intrinsicsForFolder((folder.has_filename() ? folder : folder.parent_path()).filename().string());
+  calibration_.camera =
+      intrinsicsForFolder((folder.has_filename() ? folder : folder.parent_path()).filename().string());
   calibration_.depth_scale_m = 1.0 / 5000.0;
   frames_ = detail::readTumFrames(dir_);
-  if (std::filesystem::exists(dir_ / "accelerometer.txt", ec)) accelerometer_ = readAccelerometer(dir_ / "accelerometer.txt");
+  if (std::filesystem::exists(dir_ / "accelerometer.txt", ec))
+    accelerometer_ = readAccelerometer(dir_ / "accelerometer.txt");
   if (std::filesystem::exists(dir_ / "groundtruth.txt", ec)) {
     ground_truth_ = detail::readTumTrajectory(dir_ / "groundtruth.txt", "groundtruth.txt");
   }
@@ -70,8 +71,8 @@ std::size_t TumReader::frameCount() const { return frames_.size(); }
 
 bool TumReader::nextFrame(RgbdFrame& frame) {
   if (next_ >= frames_.size()) return false;
-  detail::loadFrame(*decoder_, dir_, frames_[next_], static_cast<std::int64_t>(next_), calibration_, frame);
-  ++next_;
+  const std::size_t index = next_++;  // past it even when it cannot be read: the caller may skip it
+  detail::loadFrame(*decoder_, dir_, frames_[index], static_cast<std::int64_t>(index), calibration_, frame);
   return true;
 }
 

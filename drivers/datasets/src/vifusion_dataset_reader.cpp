@@ -31,8 +31,8 @@ std::size_t VifusionDatasetReader::frameCount() const { return frames_.size(); }
 
 bool VifusionDatasetReader::nextFrame(RgbdFrame& frame) {
   if (next_ >= frames_.size()) return false;
-  detail::loadFrame(*decoder_, dir_, frames_[next_], static_cast<std::int64_t>(next_), calibration_, frame);
-  ++next_;
+  const std::size_t index = next_++;  // past it even when it cannot be read: the caller may skip it
+  detail::loadFrame(*decoder_, dir_, frames_[index], static_cast<std::int64_t>(index), calibration_, frame);
   return true;
 }
 

@@ -157,7 +157,8 @@ void RecordingReader::scan(mcap::McapReader& reader) {
 
 bool RecordingReader::nextFrame(RgbdFrame& frame) {
   if (next_frame_ >= stamps_.size()) return false;
-  const FrameStampsRecord& wanted = stamps_[next_frame_];
+  // Past it even when it cannot be read: the caller may skip it, and the next search passes its other messages.
+  const FrameStampsRecord& wanted = stamps_[next_frame_++];
   int parts = 0;
   mcap::MessageView message;
   while (images_->readNext(message)) {
@@ -176,7 +177,6 @@ bool RecordingReader::nextFrame(RgbdFrame& frame) {
       frame.t_ns = wanted.t_ns;
       frame.index = wanted.index;
       frame.timing = wanted.timing;
-      ++next_frame_;
       return true;
     }
   }

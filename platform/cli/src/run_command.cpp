@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "closure_judge.hpp"
 #include "frame_budget.hpp"
@@ -122,6 +124,27 @@ class TrackingStateCounts {
   int run_ = 0;
 };
 
+/// Recorded frames that could not be read (a truncated PNG, a corrupt message): skipped, counted and each
+/// logged once with the reader's reason, which names the file; the report keeps the first kReported.
+class SkippedFrames {
+ public:
+  static constexpr std::size_t kReported = 20;
+
+  SkippedFrames() { first_.reserve(kReported); }
+
+  void add(std::size_t frame, const std::string& reason) {
+    std::fprintf(stderr, "vifusion run: frame %zu skipped: %s\n", frame, reason.c_str());
+    if (first_.size() < kReported) first_.push_back({{"frame", frame}, {"reason", reason}});
+    ++count_;
+  }
+  std::size_t count() const { return count_; }
+  nlohmann::json json() const { return {{"count", count_}, {"first", first_}}; }
+
+ private:
+  std::size_t count_ = 0;
+  std::vector<nlohmann::json> first_;
+};
+
 }  // namespace
 
 int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> backend) {
@@ -182,7 +205,24 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   uint64_t map_evicted = 0;
   ProgressBar progress("tracking", static_cast<int64_t>(reserved));
   const auto start = std::chrono::steady_clock::now();
-  while (trajectory.size() < total && !interrupted() && reader->nextFrame(frame)) {
+  SkippedFrames skipped;
+  std::size_t consumed = 0;              ///< frames taken from the source, the skipped ones included
+  std::optional<std::string> bad_input;  ///< --strict: why the run stopped early
+  while (consumed < total && !interrupted()) {
+    bool more = false;
+    try {
+      more = reader->nextFrame(frame);
+    } catch (const Error& error) {
+      if (reader->live()) throw;  // the live driver recovers by itself; an error from it is final
+      if (options.strict) {
+        bad_input = "frame " + std::to_string(consumed) + ": " + error.what();
+        break;
+      }
+      skipped.add(consumed++, error.what());
+      continue;
+    }
+    if (!more) break;
+    ++consumed;
     const std::span<const ImuSample> imu =
         inertial ? source.imu->samplesThrough(frame.t_ns) : std::span<const ImuSample>();
     const slam::FrameResult result = pipeline.process(frame, imu);
@@ -273,6 +313,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
                             {{"enabled", options.relocalisation},
                              {"relocalisations", relocalisations},
                              {"keyframes", pipeline.keyframes()}}},
+                           {"skipped_frames", skipped.json()},
                            {"frames_with_imu_issues", imu_issues},
                            {"ms_per_frame", budget.wallJson()},
                            {"gpu_ms_per_frame", budget.gpuJson()},
@@ -283,6 +324,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
                            {"frames_per_s", frames / wall_s},
                            {"arena_bytes", pipeline.arenaBytes()}};
   if (!camera_report.is_null()) report["camera"] = camera_report;
+  if (bad_input) report["stopped_at_bad_input"] = *bad_input;
   if (loaded) {
     report["loaded_map"] = {{"path", options.load_map},
                             {"bytes", loaded->bytes},
@@ -333,6 +375,13 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   }
   std::filesystem::rename(report_path.string() + ".tmp", report_path);
   std::printf("%s\n", report.dump().c_str());
+  if (bad_input) {
+    std::fprintf(stderr,
+                 "vifusion run: --strict: stopped at the first bad input, %s; the outputs hold the %d frames "
+                 "before it\n",
+                 bad_input->c_str(), frames);
+    return config::kExitSource;
+  }
   return 0;
 }
 

@@ -83,6 +83,17 @@ TEST_F(VifusionDatasetTest, ImagesMustMatchTheCalibratedResolution) {
   expectError([&] { reader.nextFrame(frame); }, "depth/0.033333333.png: image is 640x480, expected 160x120");
 }
 
+TEST_F(VifusionDatasetTest, AnUnreadableFrameIsPassedSoTheNextOneCanBeRead) {
+  writeText(tmp_ / "depth" / "0.000000000.png", "\x89PNG truncated");
+  VifusionDatasetReader reader(tmp_.path());
+  RgbdFrame frame;
+  expectError([&] { reader.nextFrame(frame); }, "depth/0.000000000.png");
+  ASSERT_TRUE(reader.nextFrame(frame));
+  EXPECT_EQ(frame.index, 1);
+  EXPECT_TRUE(holdsPattern(frame, 1));
+  EXPECT_FALSE(reader.nextFrame(frame));
+}
+
 TEST_F(VifusionDatasetTest, ImuIsRequired) {
   std::filesystem::remove(tmp_ / "imu.csv");
   expectError([&] { VifusionDatasetReader reader(tmp_.path()); }, "imu.csv: cannot open file");

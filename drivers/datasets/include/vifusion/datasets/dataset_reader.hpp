@@ -41,7 +41,8 @@ class DatasetReader {
 
   /// Decodes the next frame into `frame`, reusing its image buffers when the size is unchanged.
   /// @return false once every frame has been delivered (frame is then untouched).
-  /// @throws vifusion::Error for an unreadable, truncated or wrongly sized/typed image.
+  /// @throws vifusion::Error for an unreadable, truncated or wrongly sized/typed image, naming it; a recorded
+  /// source has then moved past that frame, so the next call reads the one after (a caller may skip it).
   virtual bool nextFrame(RgbdFrame& frame) = 0;
 
   /// Every IMU sample of the sequence, strictly increasing in time; empty if the dataset has none.

@@ -135,7 +135,6 @@ int runSim(const SimOptions& options) {
   calibration.camera = PinholeCamera::create(options.width, options.height, 481.2 * scale, 480.0 * scale,
                                              0.5 * options.width - 0.5, 0.5 * options.height - 0.5);
   calibration.depth_scale_m = 1.0 / 5000.0;
-  calibration.inverse_depth_bias_per_m = options.noise ? scene::kSimulatedInverseDepthBias_per_m : 0.0;
   calibration.T_S_C = fit.T_S_C;
   calibration.imu = ImuNoiseParams::preset(options.imu);
   calibration.g_W = options.up == "z" ? Eigen::Vector3d(0, 0, -calibration.imu.gravity_mps2)
@@ -230,19 +229,24 @@ int runSim(const SimOptions& options) {
   const double render_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - render_start).count();
   const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  nlohmann::json summary = {{"out", options.out},
-                            {"frames", frames},
-                            {"imu_samples", imu.samples.size()},
-                            {"duration_s", nsToSeconds(t_end_ns - fit.first_pose_ns)},
-                            {"fit_stride", fit_options.subsample},
-                            {"fit_at_samples", residualsJson(fit.at_samples)},
-                            {"fit_at_all_poses", residualsJson(fit.at_all_poses)},
-                            {"gyro_clipped_samples", imu.gyro_clipped_samples},
-                            {"accel_clipped_samples", imu.accel_clipped_samples},
-                            {"motion_blur_samples", blur_samples},
-                            {"covered_frames", covered_frames},
-                            {"render_frames_per_s", static_cast<double>(frames) / render_s},
-                            {"wall_time_s", total_s}};
+  nlohmann::json summary = {
+      {"out", options.out},
+      {"frames", frames},
+      {"imu_samples", imu.samples.size()},
+      {"duration_s", nsToSeconds(t_end_ns - fit.first_pose_ns)},
+      {"fit_stride", fit_options.subsample},
+      {"fit_at_samples", residualsJson(fit.at_samples)},
+      {"fit_at_all_poses", residualsJson(fit.at_all_poses)},
+      {"gyro_clipped_samples", imu.gyro_clipped_samples},
+      {"accel_clipped_samples", imu.accel_clipped_samples},
+      {"motion_blur_samples", blur_samples},
+      {"covered_frames", covered_frames},
+      // The simulated camera's truth, which calibration.yaml leaves to be measured.
+      {"sensor",
+       {{"inverse_depth_bias_per_m", options.noise ? scene::kSimulatedInverseDepthBias_per_m : 0.0},
+        {"intensity_sigma", options.noise ? noise_options.intensity_sigma : 0.0}}},
+      {"render_frames_per_s", static_cast<double>(frames) / render_s},
+      {"wall_time_s", total_s}};
   if (!options.quiet) std::printf("%s\n", summary.dump().c_str());
   return 0;
 }

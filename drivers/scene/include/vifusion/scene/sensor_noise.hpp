@@ -22,8 +22,9 @@
 //   4. z = f·b / d, z_cm = round(100·z), z_noisy_cm = 35130 / round(35130 / z_cm + N(0, 1)·σ + 0.5),
 //      σ = 1/6 (simkinect's constants; the +0.5 is theirs too), stored at depth_scale units per metre.
 //      The +0.5 biases the index by +0.5 on average, so the noisy depth is short by the inverse-depth
-//      bias kSimulatedInverseDepthBias_per_m (0.28 % at 2 m, 0.57 % at 4 m): the simulator writes it into
-//      calibration.yaml as the sensor's calibrated bias, as a driver would for a real one.
+//      bias kSimulatedInverseDepthBias_per_m (0.28 % at 2 m, 0.57 % at 4 m). The simulator does not write
+//      it into calibration.yaml: like a real sensor's disparity offset it is there to be measured
+//      (`vifusion calib noise`), and the sim's JSON summary gives the true value to compare with.
 // Colour: independent N(0, σ²) per channel on the 0–255 scale, rounded and clamped (σ = 4 synthetic,
 // 1 real, paper Table I). Rounding to 8 bits adds 1/12 to the variance: a measured σ is √(σ² + 1/12).
 //

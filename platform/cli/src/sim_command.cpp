@@ -102,8 +102,12 @@ void requireFitFollowsPath(const sim::TrajectoryFit& fit, const std::vector<sim:
           << " s) by " << std::setprecision(3) << (rotation ? r.max_rotation_deg : r.max_position_mm)
           << (rotation ? "°" : " mm") << ", beyond the "
           << (rotation ? tolerance.max_rotation_deg : tolerance.max_position_mm) << (rotation ? "°" : " mm")
-          << " tolerance (worst: " << r.max_position_mm << " mm, " << r.max_rotation_deg
-          << "°); the path moves too fast for that stride: fit more densely with --fit-stride N (N < " << stride << ")";
+          << " tolerance (worst: " << r.max_position_mm << " mm, " << r.max_rotation_deg << "°); ";
+  if (stride > 1) {
+    message << "the path moves too fast for that stride: fit more densely with --fit-stride N (N < " << stride << ")";
+  } else {
+    message << "even through every pose: the path jumps between its poses; smooth or resample it first";
+  }
   throw Error(message.str());
 }
 

@@ -16,9 +16,9 @@
 //    then Gauss–Newton on  Σ_i |Log(R(t_i)ᵀ R_i)|² + λ·Δt⁵·(the same jerk energy of each segment's rotation-vector
 //    increments d_j = Log(R_{j−1}ᵀ R_j)), with analytic Jacobians (Se3Spline::orientation) and right
 //    perturbations of the control rotations. Converges in 3–6 iterations on ICL-NUIM and the presets.
-// The default λ (w = λ·Δt⁵ = 10⁻⁶ s⁵ at 1/3 s knots) keeps the spline within ~1 mm / 0.05° of the ICL-NUIM samples; the
-// 30 Hz poses in between deviate more (RMS 1–5 mm, up to 35 mm) because the files jitter from frame to frame, which is
-// what the subsampling removes. Smooth paths such as the presets are matched at every pose.
+// The default λ (w = λ·Δt⁵ = 10⁻⁶ s⁵ at 1/3 s knots) keeps the spline close to the ICL-NUIM samples (FitTolerance);
+// the 30 Hz poses in between deviate more because the files jitter from frame to frame, which is what the
+// subsampling removes. Smooth paths such as the presets are matched at every pose.
 
 #include <cstdint>
 #include <vector>
@@ -52,10 +52,10 @@ struct FitResiduals {
   std::int64_t max_rotation_t_ns = 0;  ///< stamp of the pose with the largest rotation deviation
 };
 
-/// How far a fit may miss the poses it was fitted through for its spline to be a ground truth. The paper's recipe
-/// (every 10th pose) on ICL-NUIM's own hand-held files misses them by their jitter, at most 1.1 mm and 0.07°
-/// (TrajectoryFit's test): a fit that misses its own samples by more than that is not following the motion, and
-/// frames and IMU simulated along it would not show the path that was asked for.
+/// How far a fit may miss the poses it was fitted through for its spline to be a ground truth: about the hand
+/// jitter the paper's recipe (every 10th pose) leaves on ICL-NUIM's own files, whose residuals README.md gives
+/// ("The synthetic benchmark and evaluation"). A fit that misses its own samples by more does not follow the
+/// motion, and frames and IMU simulated along it would not show the path that was asked for.
 struct FitTolerance {
   double max_position_mm = 2.0;   ///< [mm], > 0
   double max_rotation_deg = 0.1;  ///< [deg], > 0

@@ -4,18 +4,19 @@ synthetic sequences, with the tracking states of every run (frames tracked, IMU-
 longest run of each).
 
 For each sequence it generates the dataset once (`vifusion sim`, IMU preset `synthetic`, default
-parameters for every sequence), runs `vifusion run` in each mode with the simulated rig's calibration, evaluates with `vifusion eval`
-(ATE; velocity, bias and gravity errors from states.csv; plots in the style of the paper's Fig. 3 and
-Fig. 5 under <out>/<sequence>/<mode>/plots) and writes one JSON document with the numbers and, for
-each acceptance criterion, the measured value, the bound and whether it holds.
+parameters for every sequence), runs `vifusion run` in each mode with the simulated rig's calibration,
+evaluates with `vifusion eval` (ATE; velocity, bias and gravity errors from states.csv; plots in the style of
+the paper's Fig. 3 and Fig. 5 under <out>/<sequence>/<mode>/plots) and writes one JSON document with the
+numbers and, for each acceptance criterion, the measured value, the bound and whether it holds.
 
     tests/bench/inertial_table.py --vifusion build/bin/vifusion --out bench_inertial [--duration S]
         [--sequences living_room_0,white_wall] [--modes rgbd,rgbdi] [--width 640 --height 480]
 
 The simulator's calibration.yaml does not carry its depth noise's inverse-depth bias, as a real sensor's
 factory calibration would not: by default the rig is calibrated once, the way a user would, by `vifusion calib
-noise` on a recording that is none of the benchmark's (CALIBRATION_PRESET's first CALIBRATION_S seconds, with its
-ground truth standing in for a motion-capture room), and every run reads that calibration (`run --calibration`).
+noise` on a recording that is none of the benchmark's (CALIBRATION_PRESET's first CALIBRATION_S seconds, with
+its ground truth standing in for a motion-capture room), and every run reads that calibration (`run
+--calibration`).
 `--calibration none` leaves the bias in; `--calibration FILE` uses a calibration.yaml of your own.
 
 Full-length 640x480 sequences take hours on 2 CPU cores through lavapipe; --duration shortens every

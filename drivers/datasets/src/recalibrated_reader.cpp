@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/datasets/kalibr.hpp"
 
 namespace vifusion::datasets {
 namespace {
@@ -52,6 +53,11 @@ std::unique_ptr<DatasetReader> withCalibration(std::unique_ptr<DatasetReader> re
     throw Error(message.str());
   }
   return std::make_unique<RecalibratedReader>(std::move(recording), calibration, calibration_name);
+}
+
+std::unique_ptr<DatasetReader> withCalibrationFile(std::unique_ptr<DatasetReader> recording,
+                                                   const std::string& calibration_yaml) {
+  return withCalibration(std::move(recording), readCalibrationYaml(calibration_yaml), calibration_yaml);
 }
 
 }  // namespace vifusion::datasets

@@ -7,7 +7,6 @@
 #include <optional>
 
 #include "sim_command.hpp"
-#include "vifusion/datasets/kalibr.hpp"
 #include "vifusion/datasets/recalibrated_reader.hpp"
 #include "vifusion/recording/open_recorded.hpp"
 #ifdef VIFUSION_WITH_ZR300
@@ -80,8 +79,7 @@ bool openRunSource(const SourceRequest& request, const char* command, std::uniqu
 #endif
   source.reader = recording::openRecorded(datasetSpec(request));
   if (!request.calibration.empty()) {
-    source.reader = datasets::withCalibration(std::move(source.reader),
-                                              datasets::readCalibrationYaml(request.calibration), request.calibration);
+    source.reader = datasets::withCalibrationFile(std::move(source.reader), request.calibration);
   }
   if (!source.reader->imu().empty()) {
     source.recorded_imu = std::make_unique<RecordedImuFeed>(source.reader->imu());

@@ -8,7 +8,6 @@
 #include <vector>
 
 #include "vifusion/core/error.hpp"
-#include "vifusion/datasets/kalibr.hpp"
 #include "vifusion/datasets/recalibrated_reader.hpp"
 #include "vifusion/recording/open_recorded.hpp"
 #include "vifusion/service/log.hpp"
@@ -98,8 +97,7 @@ OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
     opened.reader = datasets::openDataset("dataset:" + dir.string());
   }
   if (!config.calibration.empty()) {  // the rig's calibration in place of the recording's own
-    opened.reader = datasets::withCalibration(std::move(opened.reader),
-                                              datasets::readCalibrationYaml(config.calibration), config.calibration);
+    opened.reader = datasets::withCalibrationFile(std::move(opened.reader), config.calibration);
   }
   return opened;
 }

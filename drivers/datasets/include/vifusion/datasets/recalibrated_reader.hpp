@@ -19,4 +19,9 @@ namespace vifusion::datasets {
 std::unique_ptr<DatasetReader> withCalibration(std::unique_ptr<DatasetReader> recording,
                                                const RigCalibration& calibration, const std::string& calibration_name);
 
+/// The same with the calibration read from `calibration_yaml` (kalibr.hpp's calibration.yaml schema).
+/// @throws vifusion::Error naming the file for a file it cannot read, or as above.
+std::unique_ptr<DatasetReader> withCalibrationFile(std::unique_ptr<DatasetReader> recording,
+                                                   const std::string& calibration_yaml);
+
 }  // namespace vifusion::datasets

@@ -50,10 +50,10 @@ struct PairResidualImages {
   Image<float> bias_sensitivity;              ///< k = ∂r_ι/∂b [1] (see above)
   Image<float> grey_b_at_a;                   ///< I_b(u') [0–255]
   Image<float> grey_gradient_sq;              ///< ‖∇I_b(c)‖² [grey²/px²]
+  Image<float> grey_a;                        ///< I_a(u) [0–255]
 
   /// Sizes every image to width × height (allocates only when the size changes).
   void resize(int width, int height);
-  Image<float> grey_a;  ///< I_a(u) [0–255]
 };
 
 /// Fills `out` (resized to a's size when it differs) from inverse depth and grey images of frames a and b

@@ -59,6 +59,10 @@ std::string at(const Document& doc, const YAML::Node& node) {
   return doc.file + " line " + std::to_string(mark.line + 1) + ": ";
 }
 
+void requireTopLevelMapping(const Document& doc) {
+  if (!doc.root.IsMap()) throw Error(doc.file + ": expected a mapping of keys at the top level");
+}
+
 Document parse(const std::string& text, const std::string& name) {
   Document doc{name, {}};
   try {
@@ -66,6 +70,7 @@ Document parse(const std::string& text, const std::string& name) {
   } catch (const YAML::Exception& e) {
     throw Error(doc.file + " line " + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
   }
+  requireTopLevelMapping(doc);
   return doc;
 }
 
@@ -78,8 +83,20 @@ Document load(const std::filesystem::path& path) {
   } catch (const YAML::Exception& e) {
     throw Error(doc.file + " line " + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
   }
-  if (!doc.root.IsMap()) throw Error(doc.file + ": expected a mapping of keys at the top level");
+  requireTopLevelMapping(doc);
   return doc;
+}
+
+/// Runs `read` on `doc`; a yaml-cpp exception from a node of an unexpected kind that the checks here did not
+/// foresee still becomes an Error naming the file and line, never an exception a caller does not expect.
+template <typename Read>
+void withYamlErrorsNamed(const Document& doc, Read&& read) {
+  try {
+    read();
+  } catch (const YAML::Exception& e) {
+    throw Error(doc.file + (e.mark.is_null() ? std::string() : " line " + std::to_string(e.mark.line + 1)) +
+                ": unexpected YAML structure: " + e.msg);
+  }
 }
 
 std::string joinKeys(std::initializer_list<const char*> keys) {
@@ -91,6 +108,7 @@ std::string joinKeys(std::initializer_list<const char*> keys) {
 /// Rejects keys outside `allowed` and repeated keys (yaml-cpp would silently use the first).
 void checkKeys(const Document& doc, const YAML::Node& map, std::initializer_list<const char*> allowed,
                const std::string& context) {
+  if (!map.IsMap()) throw Error(at(doc, map) + context + " must be a mapping of keys");
   std::set<std::string> seen;
   for (const auto& entry : map) {
     const std::string key = entry.first.Scalar();
@@ -103,6 +121,7 @@ void checkKeys(const Document& doc, const YAML::Node& map, std::initializer_list
 }
 
 YAML::Node require(const Document& doc, const YAML::Node& map, const char* key) {
+  if (!map.IsMap()) throw Error(at(doc, map) + "expected a mapping with key '" + key + "'");
   const YAML::Node node = map[key];
   if (!node) throw Error(at(doc, map) + "missing key '" + key + "'");
   return node;
@@ -269,17 +288,21 @@ void readImu(const Document& doc, const YAML::Node& imu, const std::string& cont
 RigCalibration readKalibr(const std::filesystem::path& camchain_imucam_yaml, const std::filesystem::path& imu_yaml) {
   RigCalibration calibration;
   const Document camchain = load(camchain_imucam_yaml);
-  checkKeys(camchain, camchain.root, {"cam0", "cam1"}, "the camera chain (cam0 colour, cam1 depth)");
-  readCamera(camchain, require(camchain, camchain.root, "cam0"), calibration);
-  if (const YAML::Node cam1 = camchain.root["cam1"]) readDepthCamera(camchain, cam1, calibration);
+  withYamlErrorsNamed(camchain, [&] {
+    checkKeys(camchain, camchain.root, {"cam0", "cam1"}, "the camera chain (cam0 colour, cam1 depth)");
+    readCamera(camchain, require(camchain, camchain.root, "cam0"), calibration);
+    if (const YAML::Node cam1 = camchain.root["cam1"]) readDepthCamera(camchain, cam1, calibration);
+  });
 
   const Document imu = load(imu_yaml);
-  if (imu.root["imu0"]) {
-    checkKeys(imu, imu.root, {"imu0"}, "the IMU file (one IMU, imu0)");
-    readImu(imu, imu.root["imu0"], "imu0", calibration);
-  } else {
-    readImu(imu, imu.root, "the IMU file", calibration);
-  }
+  withYamlErrorsNamed(imu, [&] {
+    if (imu.root["imu0"]) {
+      checkKeys(imu, imu.root, {"imu0"}, "the IMU file (one IMU, imu0)");
+      readImu(imu, imu.root["imu0"], "imu0", calibration);
+    } else {
+      readImu(imu, imu.root, "the IMU file", calibration);
+    }
+  });
   return calibration;
 }
 
@@ -383,10 +406,18 @@ RigCalibration readCalibrationDocument(const Document& doc) {
 
 }  // namespace
 
-RigCalibration readCalibrationYaml(const std::filesystem::path& path) { return readCalibrationDocument(load(path)); }
+RigCalibration readCalibrationYaml(const std::filesystem::path& path) {
+  const Document doc = load(path);
+  RigCalibration calibration;
+  withYamlErrorsNamed(doc, [&] { calibration = readCalibrationDocument(doc); });
+  return calibration;
+}
 
 RigCalibration readCalibrationYamlText(const std::string& text, const std::string& name) {
-  return readCalibrationDocument(parse(text, name));
+  const Document doc = parse(text, name);
+  RigCalibration calibration;
+  withYamlErrorsNamed(doc, [&] { calibration = readCalibrationDocument(doc); });
+  return calibration;
 }
 
 std::string calibrationYamlText(const RigCalibration& calibration) {

@@ -325,6 +325,21 @@ TEST_F(KalibrCorruption, NonRotationExtrinsic) {
                       "line 3: 'T_cam_imu' rotation block is not a rotation matrix");
 }
 
+// Found by fuzz_calibration_yaml: a key whose value is not a mapping escaped as a yaml-cpp exception.
+TEST_F(KalibrCorruption, CameraThatIsNotAMappingIsNamed) {
+  std::string camchain = "cam0: 5\n";
+  writeText(tmp_ / "camchain-imucam.yaml", camchain);
+  writeText(tmp_ / "imu.yaml", kImuFlat);
+  expectError([&] { readKalibr(tmp_ / "camchain-imucam.yaml", tmp_ / "imu.yaml"); }, "camchain-imucam.yaml line 1: ");
+}
+
+TEST(Kalibr, CalibrationTextThatIsNotAMappingIsNamed) {
+  expectError([&] { readCalibrationYamlText("cam0", "recorded.yaml"); },
+              "recorded.yaml: expected a mapping of keys at the top level");
+  expectError([&] { readCalibrationYamlText("- cam0\n- imu0\n", "recorded.yaml"); },
+              "recorded.yaml: expected a mapping of keys at the top level");
+}
+
 TEST_F(KalibrCorruption, YamlSyntaxError) {
   expectCamchainError("resolution: [640, 480]", "resolution: [640, 480",
                       "camchain-imucam.yaml line 13: YAML syntax error");

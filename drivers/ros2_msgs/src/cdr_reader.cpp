@@ -121,6 +121,12 @@ std::string_view CdrReader::readString(std::string_view field) {
   if (text[length - 1] != '\0') {
     failAt(length_offset, field, "string of length " + std::to_string(length) + " does not end in a NUL byte");
   }
+  // A NUL before the end would cut the string short for every C reader, and our writer cannot write it back.
+  if (const void* nul = std::memchr(text, '\0', length - 1); nul != nullptr) {
+    failAt(length_offset, field,
+           "string of length " + std::to_string(length) + " holds a NUL byte at index " +
+               std::to_string(static_cast<const char*>(nul) - text) + ", before its end");
+  }
   offset_ += length;
   return std::string_view(text, length - 1);
 }

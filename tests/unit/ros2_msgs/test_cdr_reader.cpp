@@ -102,6 +102,16 @@ TEST(CdrReader, StringWithoutItsNulIsRefused) {
               "end in a NUL byte");
 }
 
+// Found by fuzz_cdr_messages: such a string was accepted, and our writer refused to write it back.
+TEST(CdrReader, StringWithANulBeforeItsEndIsRefused) {
+  const test::SampleMessages samples;
+  std::vector<std::uint8_t> bytes = serialized(samples.header);
+  bytes[16 + 6] = '\0';  // "camera_depth_optical_frame" starts at byte 16 (after its length)
+  expectError([&] { deserializeMessage<Header>(bytes); },
+              "std_msgs/msg/Header field frame_id at byte 12: string of length 27 holds a NUL byte at index 6, "
+              "before its end");
+}
+
 TEST(CdrReader, BoolOtherThanZeroOrOneIsRefused) {
   const test::SampleMessages samples;
   std::vector<std::uint8_t> bytes = serialized(samples.sync_edge);

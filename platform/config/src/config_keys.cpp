@@ -72,6 +72,9 @@ const char* typeName(const ConfigKey& key) {
 
 namespace {
 
+constexpr unsigned char kFirstPrintable = 0x20;  ///< ASCII space; bytes below it are control characters
+constexpr unsigned char kDelete = 0x7f;
+
 std::string quoted(const std::string& text) {
   // Quote whatever YAML could read as something else (empty, numbers, booleans, special characters).
   const bool plain = !text.empty() && text.find_first_of(":#{}[],&*!|>'\"%@`\n") == std::string::npos &&
@@ -128,6 +131,17 @@ void parseValue(const ConfigKey& key, std::string_view text, std::string_view wh
       [&](auto* field) {
         using T = std::remove_pointer_t<decltype(field)>;
         if constexpr (std::is_same_v<T, std::string>) {
+          // Sources, paths, frame ids and partitions are one line of text; a control character (a NUL or a
+          // line break from a corrupted file) would reach a file name or the wire unseen.
+          const auto control = std::find_if(text.begin(), text.end(),
+                                            [](unsigned char c) { return c < kFirstPrintable || c == kDelete; });
+          if (control != text.end()) {
+            char code[8];
+            std::snprintf(code, sizeof(code), "0x%02x", static_cast<unsigned char>(*control));
+            throw ConfigError(std::string(where) + "key '" + key.path + "' holds a control character (" + code +
+                              " at offset " + std::to_string(control - text.begin()) +
+                              "); its value must be one line of printable text");
+          }
           *field = std::string(text);
         } else if constexpr (std::is_same_v<T, bool>) {
           if (text == "true" || text == "yes" || text == "on" || text == "1") {

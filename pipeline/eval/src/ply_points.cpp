@@ -1,5 +1,6 @@
 #include "vifusion/eval/ply_points.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -19,12 +20,13 @@ struct Property {
 std::size_t typeBytes(const std::string& type) {
   if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
   if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-  if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" || type == "float32") return 4;
+  if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" || type == "float32")
+    return 4;
   if (type == "double" || type == "float64") return 8;
   return 0;
 }
 
-double readBinary(const char* data, const std::string& type) {
+double readBinary(const char* data, const std::string& type, const std::string& file) {
   // Little-endian host assumed for binary_little_endian files (x86-64 and aarch64 Linux are).
   if (type == "float" || type == "float32") {
     float value;
@@ -36,7 +38,7 @@ double readBinary(const char* data, const std::string& type) {
     std::memcpy(&value, data, 8);
     return value;
   }
-  throw Error("PLY position property of type '" + type + "' (expected float or double)");
+  throw Error(file + ": position property of type '" + type + "' (expected float or double)");
 }
 
 }  // namespace
@@ -53,6 +55,7 @@ std::vector<Eigen::Vector3d> readPlyPositions(const std::filesystem::path& path)
   bool in_vertex = false;
   bool vertex_first = true;  // the vertex element must come first for a sequential read
   bool seen_element = false;
+  bool header_ended = false;
   std::vector<Property> properties;
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -86,9 +89,11 @@ std::vector<Eigen::Vector3d> readPlyPositions(const std::filesystem::path& path)
       if (property.bytes == 0) throw Error(name + ": unknown PLY property type '" + property.type + "'");
       properties.push_back(property);
     } else if (keyword == "end_header") {
+      header_ended = true;
       break;
     }
   }
+  if (!header_ended) throw Error(name + ": no end_header line (truncated or not a PLY header)");
   if (!vertex_first) throw Error(name + ": the vertex element must be the first element");
   int index[3] = {-1, -1, -1};
   std::size_t offset[3] = {0, 0, 0};
@@ -104,29 +109,49 @@ std::vector<Eigen::Vector3d> readPlyPositions(const std::filesystem::path& path)
   }
   if (index[0] < 0 || index[1] < 0 || index[2] < 0) throw Error(name + ": vertices have no x, y and z properties");
 
+  // The count is checked against the bytes left before anything is reserved, so a corrupt header cannot ask
+  // for gigabytes: a binary vertex takes `stride` bytes, an ASCII one at least a digit and a separator per
+  // property.
+  const std::streamoff header_end = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto bytes_left = static_cast<std::size_t>(std::max<std::streamoff>(0, in.tellg() - header_end));
+  in.seekg(header_end);
+  const std::size_t min_vertex_bytes = binary ? stride : 2 * properties.size();
+  if (vertex_count > bytes_left / min_vertex_bytes) {
+    throw Error(name + ": the header promises " + std::to_string(vertex_count) + " vertices, but only " +
+                std::to_string(bytes_left) + " bytes follow it (truncated file or corrupt vertex count)");
+  }
   std::vector<Eigen::Vector3d> points;
   points.reserve(vertex_count);
+  const auto keep = [&](std::size_t v, const Eigen::Vector3d& p) {
+    if (!p.allFinite()) throw Error(name + ": vertex " + std::to_string(v) + " has a position that is not finite");
+    points.push_back(p);
+  };
   if (binary) {
     std::vector<char> record(stride);
     for (std::size_t v = 0; v < vertex_count; ++v) {
       if (!in.read(record.data(), static_cast<std::streamsize>(stride))) {
-        throw Error(name + ": truncated after " + std::to_string(v) + " of " + std::to_string(vertex_count) + " vertices");
+        throw Error(name + ": truncated after " + std::to_string(v) + " of " + std::to_string(vertex_count) +
+                    " vertices");
       }
       Eigen::Vector3d p;
-      for (int axis = 0; axis < 3; ++axis) p[axis] = readBinary(record.data() + offset[axis], properties[index[axis]].type);
-      points.push_back(p);
+      for (int axis = 0; axis < 3; ++axis) {
+        p[axis] = readBinary(record.data() + offset[axis], properties[index[axis]].type, name);
+      }
+      keep(v, p);
     }
   } else {
     for (std::size_t v = 0; v < vertex_count; ++v) {
       if (!std::getline(in, line)) {
-        throw Error(name + ": truncated after " + std::to_string(v) + " of " + std::to_string(vertex_count) + " vertices");
+        throw Error(name + ": truncated after " + std::to_string(v) + " of " + std::to_string(vertex_count) +
+                    " vertices");
       }
       std::istringstream values(line);
       std::vector<double> fields(properties.size());
       for (double& field : fields) {
         if (!(values >> field)) throw Error(name + ": vertex " + std::to_string(v) + " has too few values");
       }
-      points.emplace_back(fields[index[0]], fields[index[1]], fields[index[2]]);
+      keep(v, Eigen::Vector3d(fields[index[0]], fields[index[1]], fields[index[2]]));
     }
   }
   return points;

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
+#include <string>
 
 #include "expect_error.hpp"
 #include "temp_file.hpp"
@@ -46,13 +48,47 @@ TEST(PlyPoints, ReadsBinaryAndAsciiPositionsSkippingOtherProperties) {
 
 TEST(PlyPoints, CorruptFilesAreNamed) {
   const TempFile truncated("map.ply", binaryPly(5, 3));
-  expectError([&] { readPlyPositions(truncated.path()); }, "map.ply: truncated after 3 of 5 vertices");
+  expectError([&] { readPlyPositions(truncated.path()); },
+              "map.ply: the header promises 5 vertices, but only 57 bytes follow it");
+  const TempFile truncated_ascii("map.ply",
+                                 "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+                                 "property float z\nend_header\n1.000000 2.000000 3.000000\n");
+  expectError([&] { readPlyPositions(truncated_ascii.path()); }, "map.ply: truncated after 1 of 2 vertices");
   const TempFile not_ply("map.ply", "hello\n");
   expectError([&] { readPlyPositions(not_ply.path()); }, "not a PLY file");
   const TempFile big_endian("map.ply", "ply\nformat binary_big_endian 1.0\nend_header\n");
   expectError([&] { readPlyPositions(big_endian.path()); }, "'binary_big_endian' is not supported");
   const TempFile no_xyz("map.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n");
   expectError([&] { readPlyPositions(no_xyz.path()); }, "no x, y and z");
+}
+
+// Found by fuzz_ply_points: a corrupt vertex count was reserved before any vertex was read.
+TEST(PlyPoints, VertexCountBeyondTheFileIsRefusedBeforeAnyAllocation) {
+  std::string huge = binaryPly(3, 3);
+  huge.replace(huge.find("vertex 3"), 8, "vertex 100000000000");
+  const TempFile file("map.ply", huge);
+  expectError([&] { readPlyPositions(file.path()); },
+              "map.ply: the header promises 100000000000 vertices, but only 57 bytes follow it");
+  const TempFile negative("map.ply",
+                          "ply\nformat ascii 1.0\nelement vertex -1\nproperty float x\nproperty float y\n"
+                          "property float z\nend_header\n1 2 3\n");
+  expectError([&] { readPlyPositions(negative.path()); }, "map.ply: the header promises 18446744073709551615 vertices");
+}
+
+TEST(PlyPoints, NonFinitePositionsAndOtherTypesAndAMissingHeaderEndAreNamed) {
+  std::string nan = binaryPly(2, 2);
+  const float not_a_number = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(nan.data() + nan.size() - 19 + 4, &not_a_number, sizeof(float));  // vertex 1's y
+  const TempFile with_nan("map.ply", nan);
+  expectError([&] { readPlyPositions(with_nan.path()); }, "map.ply: vertex 1 has a position that is not finite");
+  const TempFile int_positions("map.ply",
+                               "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty int x\n"
+                               "property int y\nproperty int z\nend_header\n" +
+                                   std::string(12, '\0'));
+  expectError([&] { readPlyPositions(int_positions.path()); },
+              "map.ply: position property of type 'int' (expected float or double)");
+  const TempFile no_end("map.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n");
+  expectError([&] { readPlyPositions(no_end.path()); }, "map.ply: no end_header line");
 }
 
 TEST(ReconstructionError, DistancesAfterAlignmentToAPlane) {

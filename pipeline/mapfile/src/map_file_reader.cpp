@@ -38,6 +38,17 @@ MapFileReader::MapFileReader(std::string path, std::size_t buffer_bytes) : path_
   buffer_.reserve(buffer_bytes);
   fd_ = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) failFile(std::string("cannot be opened: ") + std::strerror(errno));
+  // A constructor that throws runs no destructor: close here, or every refused file would keep its descriptor.
+  try {
+    readFileHeader();
+  } catch (...) {
+    ::close(fd_);
+    fd_ = -1;
+    throw;
+  }
+}
+
+void MapFileReader::readFileHeader() {
   struct stat status {};
   if (::fstat(fd_, &status) != 0 || !S_ISREG(status.st_mode)) failFile("is not a regular file");
   file_bytes_ = static_cast<std::uint64_t>(status.st_size);

@@ -3,6 +3,9 @@
 // passes the checksum but cannot be right.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <iterator>
+
 #include "map_file_fixture.hpp"
 #include "vifusion/core/crc32.hpp"
 #include "vifusion/core/error.hpp"
@@ -134,6 +137,24 @@ TEST_F(DamagedMapFile, NotAMapFile) {
   std::vector<std::uint8_t> bytes = sound_;
   bytes[12] ^= 1;
   EXPECT_TRUE(contains(refusal(bytes, "header.vifmap"), "its file header is corrupt"));
+}
+
+std::size_t openDescriptors() {
+  return static_cast<std::size_t>(
+      std::distance(std::filesystem::directory_iterator("/proc/self/fd"), std::filesystem::directory_iterator()));
+}
+
+// Found by fuzz_map_file: a file refused by its header kept its descriptor (the constructor threw, so no
+// destructor closed it), and a service retrying a damaged map would run out of them.
+TEST_F(DamagedMapFile, ARefusedFileKeepsNoDescriptorOpen) {
+  std::vector<std::uint8_t> bytes = sound_;
+  bytes[12] ^= 1;
+  const std::size_t before = openDescriptors();
+  for (int attempt = 0; attempt < 50; ++attempt) {
+    EXPECT_TRUE(contains(refusal(bytes, "header.vifmap"), "its file header is corrupt"));
+    EXPECT_TRUE(contains(refusal({}, "empty.vifmap"), "is not a vifusion map file"));
+  }
+  EXPECT_EQ(openDescriptors(), before);
 }
 
 TEST_F(DamagedMapFile, AValueThatCannotBeRightIsNamedEvenWithAValidChecksum) {

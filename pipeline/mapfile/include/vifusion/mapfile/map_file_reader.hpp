@@ -66,6 +66,8 @@ class MapFileReader {
   /// Reads file bytes [offset, offset + out.size()); false when the file ends first.
   bool readAt(std::uint64_t offset, std::span<std::uint8_t> out) const;
   [[noreturn]] void failFile(const std::string& what) const;
+  /// Checks the file header (magic, checksum, version) and sets file_bytes_ and version_.
+  void readFileHeader();
 
   std::string path_;
   int fd_ = -1;

@@ -4,7 +4,9 @@
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
+#include "encoded_image_size.hpp"
 #include "vifusion/core/error.hpp"
 
 namespace vifusion::datasets::detail {
@@ -12,7 +14,9 @@ namespace {
 
 std::string describeType(int type) {
   const int depth = CV_MAT_DEPTH(type);
-  const char* bits = depth == CV_8U || depth == CV_8S ? "8-bit" : depth == CV_16U || depth == CV_16S ? "16-bit" : "float";
+  const char* bits = depth == CV_8U || depth == CV_8S     ? "8-bit"
+                     : depth == CV_16U || depth == CV_16S ? "16-bit"
+                                                          : "float";
   return std::string(bits) + " " + std::to_string(CV_MAT_CN(type)) + "-channel";
 }
 
@@ -33,8 +37,15 @@ void ImageDecoder::readBytes(const std::filesystem::path& root, const std::strin
   if (!file.read(reinterpret_cast<char*>(bytes_.data()), size)) throw Error(relative + ": cannot read");
 }
 
-void ImageDecoder::decode(std::span<const std::uint8_t> bytes, int flags, const std::string& what,
-                          const char* failure) {
+void ImageDecoder::decode(std::span<const std::uint8_t> bytes, int flags, const std::string& what, const char* failure,
+                          int width, int height) {
+  // The header's size is checked before OpenCV allocates the image (encoded_image_size.hpp).
+  const std::optional<EncodedImageSize> size = encodedImageSize(bytes);
+  if (!size) throw Error(what + ": " + failure + " (no PNG or JPEG header)");
+  if (size->width != static_cast<std::uint32_t>(width) || size->height != static_cast<std::uint32_t>(height)) {
+    throw Error(what + ": image is " + std::to_string(size->width) + "x" + std::to_string(size->height) +
+                ", expected " + std::to_string(width) + "x" + std::to_string(height));
+  }
   // OpenCV throws cv::Exception for some malformed inputs and returns an empty Mat for others
   // (a truncated PNG); both become the same boundary error.
   // imdecode leaves its destination untouched when it fails, so a kept buffer would hand back the
@@ -57,17 +68,18 @@ void ImageDecoder::requireShape(const std::string& what, int width, int height) 
   }
 }
 
-void ImageDecoder::readDepthPng(const std::filesystem::path& root, const std::string& relative, int width,
-                                int height, Image<std::uint16_t>& depth) {
+void ImageDecoder::readDepthPng(const std::filesystem::path& root, const std::string& relative, int width, int height,
+                                Image<std::uint16_t>& depth) {
   readBytes(root, relative);
-  decode(bytes_, cv::IMREAD_UNCHANGED, relative, "truncated or not a PNG");
+  decode(bytes_, cv::IMREAD_UNCHANGED, relative, "truncated or not a PNG", width, height);
   if (decoded_.type() != CV_16UC1) {
     throw Error(relative + ": depth must be a 16-bit 1-channel image, found " + describeType(decoded_.type()));
   }
   requireShape(relative, width, height);
   if (depth.width() != width || depth.height() != height) depth.resize(width, height);
   for (int y = 0; y < height; ++y) {
-    std::memcpy(depth.view().row(y), decoded_.ptr<std::uint16_t>(y), sizeof(std::uint16_t) * static_cast<std::size_t>(width));
+    std::memcpy(depth.view().row(y), decoded_.ptr<std::uint16_t>(y),
+                sizeof(std::uint16_t) * static_cast<std::size_t>(width));
   }
 }
 
@@ -76,7 +88,7 @@ void ImageDecoder::readColor(const std::filesystem::path& root, const std::strin
   readBytes(root, relative);
   // UNCHANGED rather than COLOR: a grey or 16-bit colour file is a different sensor setup and must
   // be reported, not silently converted.
-  decode(bytes_, cv::IMREAD_UNCHANGED, relative, "truncated or not a PNG");
+  decode(bytes_, cv::IMREAD_UNCHANGED, relative, "truncated or not a PNG", width, height);
   const int channels = decoded_.channels();
   if (decoded_.depth() != CV_8U || (channels != 3 && channels != 4)) {
     throw Error(relative + ": colour must be an 8-bit 3- or 4-channel image, found " + describeType(decoded_.type()));
@@ -90,9 +102,9 @@ void ImageDecoder::readColor(const std::filesystem::path& root, const std::strin
   }
 }
 
-void ImageDecoder::decodeRgbOrder(std::span<const std::uint8_t> bytes, const std::string& what, int width,
-                                  int height, Image<Rgb8>& rgb) {
-  decode(bytes, cv::IMREAD_COLOR, what, "truncated or corrupt compressed image");
+void ImageDecoder::decodeRgbOrder(std::span<const std::uint8_t> bytes, const std::string& what, int width, int height,
+                                  Image<Rgb8>& rgb) {
+  decode(bytes, cv::IMREAD_COLOR, what, "truncated or corrupt compressed image", width, height);
   requireShape(what, width, height);
   if (rgb.width() != width || rgb.height() != height) rgb.resize(width, height);
   for (int y = 0; y < height; ++y) {

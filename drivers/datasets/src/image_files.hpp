@@ -37,7 +37,8 @@ class ImageDecoder {
 
  private:
   void readBytes(const std::filesystem::path& root, const std::string& relative);
-  void decode(std::span<const std::uint8_t> bytes, int flags, const std::string& what, const char* failure);
+  void decode(std::span<const std::uint8_t> bytes, int flags, const std::string& what, const char* failure, int width,
+              int height);
   void requireShape(const std::string& what, int width, int height) const;
 
   std::vector<std::uint8_t> bytes_;

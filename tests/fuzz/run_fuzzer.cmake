@@ -1,24 +1,42 @@
 # Compiles one libFuzzer target with clang++ and runs it; called by ctest (tests/fuzz/CMakeLists.txt).
-# A compile error, a crash, a sanitizer report or fewer executions than asked fail the test.
-# Inputs (-D): CLANGXX, NAME, TARGET_SOURCE, SOURCES and INCLUDE_DIRS ('|'-separated), FLAGS ('|'-separated),
-# WORK_DIR, RUNS, MAX_LEN.
+# A compile error, a crash, a leak, a sanitizer report or a run that does not finish fails the test.
+# Inputs (-D): CLANGXX, NAME, TARGET_SOURCE, SOURCES, INCLUDE_DIRS, LINK_FILES and FLAGS ('|'-separated),
+# WORK_DIR, SEED_DIR ("" = none), SECONDS, RUNS (0 = no limit but SECONDS), MAX_LEN.
 string(REPLACE "|" ";" sources "${SOURCES}")
 string(REPLACE "|" ";" include_dirs "${INCLUDE_DIRS}")
+string(REPLACE "|" ";" link_files "${LINK_FILES}")
 string(REPLACE "|" ";" flags "${FLAGS}")
+list(REMOVE_DUPLICATES include_dirs)
 list(TRANSFORM include_dirs PREPEND "-I")
 file(MAKE_DIRECTORY "${WORK_DIR}")
 set(binary "${WORK_DIR}/${NAME}")
 
 execute_process(
-  COMMAND "${CLANGXX}" ${flags} ${include_dirs} "${TARGET_SOURCE}" ${sources} -o "${binary}"
+  COMMAND "${CLANGXX}" ${flags} ${include_dirs} "${TARGET_SOURCE}" ${sources} ${link_files} -o "${binary}"
   RESULT_VARIABLE compile_result)
 if(NOT compile_result EQUAL 0)
   message(FATAL_ERROR "${NAME}: ${CLANGXX} failed (${compile_result})")
 endif()
 
-# A fixed seed makes a run repeatable; crash inputs are written into WORK_DIR.
+# A fresh corpus each time, grown from the seeds: a fixed seed then repeats the same mutations. Crash inputs
+# are written into WORK_DIR.
+set(corpus "${WORK_DIR}/corpus")
+file(REMOVE_RECURSE "${corpus}")
+file(MAKE_DIRECTORY "${corpus}")
+set(corpus_dirs "${corpus}")
+if(SEED_DIR)
+  if(NOT IS_DIRECTORY "${SEED_DIR}")
+    message(FATAL_ERROR "${NAME}: no seed corpus at ${SEED_DIR} (the fuzz_seeds test writes it)")
+  endif()
+  list(APPEND corpus_dirs "${SEED_DIR}")
+endif()
+set(limits -max_total_time=${SECONDS})
+if(RUNS GREATER 0)
+  list(APPEND limits -runs=${RUNS})
+endif()
 execute_process(
-  COMMAND "${binary}" -runs=${RUNS} -seed=1 -max_len=${MAX_LEN} -print_final_stats=1 "-artifact_prefix=${WORK_DIR}/"
+  COMMAND "${binary}" ${limits} -seed=1 -max_len=${MAX_LEN} -print_final_stats=1 "-artifact_prefix=${WORK_DIR}/"
+          ${corpus_dirs}
   WORKING_DIRECTORY "${WORK_DIR}"
   RESULT_VARIABLE run_result
   OUTPUT_VARIABLE run_output
@@ -32,11 +50,11 @@ else()
 endif()
 message("${run_output_tail}")
 if(NOT run_result EQUAL 0)
-  message(FATAL_ERROR "${NAME}: the fuzzer stopped with ${run_result} (crash or sanitizer report above)")
+  message(FATAL_ERROR "${NAME}: the fuzzer stopped with ${run_result} (crash, leak or sanitizer report above)")
 endif()
-if(run_output MATCHES "runtime error:|ERROR: AddressSanitizer|ERROR: libFuzzer")
+if(run_output MATCHES "runtime error:|ERROR: AddressSanitizer|ERROR: LeakSanitizer|ERROR: libFuzzer")
   message(FATAL_ERROR "${NAME}: sanitizer report in the output")
 endif()
-if(NOT run_output MATCHES "Done ${RUNS} runs")
-  message(FATAL_ERROR "${NAME}: did not complete ${RUNS} executions")
+if(NOT run_output MATCHES "Done [0-9]+ runs in [0-9]+ second")
+  message(FATAL_ERROR "${NAME}: the run did not finish")
 endif()

@@ -101,6 +101,7 @@ SampleMessages::SampleMessages() {
   status.closures_agreed = 5;
   status.relocalisations = 2;
   status.frames_skipped = 4'321;
+  status.frames_unreadable = 3;
   status.source_present = true;
   status.source_reopens = 1;
   status.clock_offset_ns = -1'234'567'890'123;

@@ -88,7 +88,7 @@ def check_status_command():
     for _ in range(5):
         result = subprocess.run([f"{BIN}/vifusion", "status", "--timeout", "3", *ECHO_ARGS],
                                 capture_output=True, text=True, timeout=30)
-        summary = re.search(r"^vifusiond: \w+, [\d.]+ frames/s, latency \d+ ms \(p50 \d+, p99 \d+, max \d+\), (\d+) frames \(\d+ skipped as stale, (\d+) lost, "
+        summary = re.search(r"^vifusiond: \w+, [\d.]+ frames/s, latency \d+ ms \(p50 \d+, p99 \d+, max \d+\), (\d+) frames \(\d+ skipped as stale, \d+ unreadable, (\d+) lost, "
                             r"(\d+) IMU-carried, (\d+) without usable IMU\), \d+ surfels, \d+ loop closures \(\d+ agreed, \d+ refused\), \d+ relocalisations, "
                             r"camera ring \d+/\d+ \(\d+ overruns\)",
                             result.stdout, re.MULTILINE)

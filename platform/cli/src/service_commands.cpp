@@ -97,7 +97,7 @@ int runStatus(const StatusCommandOptions& options) {
                 line, sizeof(line),
                 "vifusiond: %s, %.1f frames/s, latency %.0f ms (p50 %.0f, p99 %.0f, max %.0f), %llu frames (%llu "
                 "skipped "
-                "as stale, %llu lost, "
+                "as stale, %llu unreadable, %llu lost, "
                 "%llu IMU-carried, "
                 "%llu without usable IMU), %u surfels, %llu loop closures (%llu agreed, %llu refused), %llu "
                 "relocalisations, camera ring %u/%u "
@@ -105,8 +105,8 @@ int runStatus(const StatusCommandOptions& options) {
                 trackingName(s.tracking_state), static_cast<double>(s.frame_rate_hz), static_cast<double>(s.latency_ms),
                 static_cast<double>(s.latency_p50_ms), static_cast<double>(s.latency_p99_ms),
                 static_cast<double>(s.latency_max_ms), static_cast<unsigned long long>(s.frames_processed),
-                static_cast<unsigned long long>(s.frames_skipped), static_cast<unsigned long long>(s.lost_frames),
-                static_cast<unsigned long long>(s.imu_carried_frames),
+                static_cast<unsigned long long>(s.frames_skipped), static_cast<unsigned long long>(s.frames_unreadable),
+                static_cast<unsigned long long>(s.lost_frames), static_cast<unsigned long long>(s.imu_carried_frames),
                 static_cast<unsigned long long>(s.imu_issue_frames), s.surfel_count,
                 static_cast<unsigned long long>(s.closures_accepted),
                 static_cast<unsigned long long>(s.closures_agreed), static_cast<unsigned long long>(s.closures_refused),

@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "vifusion/config/daemon_config.hpp"
+#include "vifusion/core/error.hpp"
 #include "vifusion/core/time.hpp"
 #include "vifusion/service/log.hpp"
 
@@ -26,8 +27,21 @@ void runFrameReader(datasets::DatasetReader& source, bool realtime, SharedState&
   FrameSlot slot = FrameSlot();
   std::int64_t first_t_ns = 0, start_ns = 0;
   bool first = true;
+  std::uint64_t index = 0;  ///< frames taken from the source, the unreadable ones included
   try {
-    while (!state.stop && source.nextFrame(slot.frame)) {
+    while (!state.stop) {
+      bool more = false;
+      try {
+        more = source.nextFrame(slot.frame);
+      } catch (const Error& error) {
+        if (source.live()) throw;
+        service::logLine(service::LogLevel::Warning, "frame %llu unreadable, passed over: %s",
+                         static_cast<unsigned long long>(index++), error.what());
+        ++state.frames_unreadable;
+        continue;
+      }
+      if (!more) break;
+      ++index;
       if (first) {
         first_t_ns = slot.frame.t_ns;
         start_ns = monotonicNowNs();

@@ -7,7 +7,10 @@
 
 namespace vifusion::daemon {
 
-/// Runs until the source ends, `state.stop` is set or a frame cannot be read (exit code 3).
+/// Runs until the source ends, `state.stop` is set or the source fails (exit code 3). A recorded frame that
+/// cannot be read (a truncated image, a damaged message) is passed over: counted in
+/// SharedState::frames_unreadable (the status message) and logged with the reader's reason, which names the
+/// file; the next frame is read. An error from a live source is final (its driver recovers what it can).
 ///  realtime = true: frames are handed over at their timestamps' pace, like a camera; a full ring
 ///    drops the newest frame and counts an overrun (a sensor never waits); the SLAM thread takes the newest
 ///    waiting frame and skips the older ones (SlamWorkerOptions::take_newest).

@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "vifusion/core/atomic_file.hpp"
 #include "vifusion/core/error.hpp"
 
 namespace vifusion::eval {
@@ -18,9 +19,11 @@ std::vector<std::string_view> splitFields(std::string_view line) {
   std::size_t start = 0;
   while (true) {
     const std::size_t comma = line.find(',', start);
-    std::string_view field = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    std::string_view field =
+        line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
     while (!field.empty() && (field.front() == ' ' || field.front() == '\t')) field.remove_prefix(1);
-    while (!field.empty() && (field.back() == ' ' || field.back() == '\t' || field.back() == '\r')) field.remove_suffix(1);
+    while (!field.empty() && (field.back() == ' ' || field.back() == '\t' || field.back() == '\r'))
+      field.remove_suffix(1);
     fields.push_back(field);
     if (comma == std::string_view::npos) return fields;
     start = comma + 1;
@@ -62,7 +65,8 @@ class CsvReader {
       if (has_previous_ && t_ns <= previous_t_ns_) {
         char step[64];
         std::snprintf(step, sizeof(step), "%.3f ms", static_cast<double>(previous_t_ns_ - t_ns) * 1e-6);
-        fail(t_ns == previous_t_ns_ ? "timestamp repeats the previous line" : std::string("timestamp goes backwards by ") + step);
+        fail(t_ns == previous_t_ns_ ? "timestamp repeats the previous line"
+                                    : std::string("timestamp goes backwards by ") + step);
       }
       previous_t_ns_ = t_ns;
       has_previous_ = true;
@@ -116,6 +120,34 @@ class CsvReader {
   bool has_previous_ = false;
 };
 
+/// states.csv: the header, then one row per record (state_csv.hpp).
+void printStates(std::FILE* file, std::span<const StateRecord> records) {
+  static constexpr const char* kDeltaNames[kStateDim] = {
+      "dr_x",   "dr_y",   "dr_z",   "dalpha_x", "dalpha_y", "dalpha_z", "dv_x", "dv_y", "dv_z",
+      "db_g_x", "db_g_y", "db_g_z", "db_a_x",   "db_a_y",   "db_a_z",   "dg_x", "dg_y", "dg_z"};
+  std::fprintf(file,
+               "#t_ns,r_W_C_x,r_W_C_y,r_W_C_z,q_W_C_x,q_W_C_y,q_W_C_z,q_W_C_w,v_W_S_x,v_W_S_y,v_W_S_z,"
+               "b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z,g_W_x,g_W_y,g_W_z,q_I_W_x,q_I_W_y,q_I_W_z,q_I_W_w");
+  for (const char* name : kDeltaNames) std::fprintf(file, ",var_%s", name);
+  std::fprintf(file, "\n");
+  const auto put = [&](const auto& vector) {
+    for (Eigen::Index i = 0; i < vector.size(); ++i) std::fprintf(file, ",%.17g", vector[i]);
+  };
+  for (const StateRecord& record : records) {
+    const NavState& x = record.x;
+    std::fprintf(file, "%lld", static_cast<long long>(record.t_ns));
+    put(x.r_W_C);
+    put(x.q_W_C.coeffs());
+    put(x.q_I_W.conjugate() * x.v_I_S);
+    put(x.b_g);
+    put(x.b_a);
+    put(x.q_I_W.conjugate() * Eigen::Vector3d(0.0, 0.0, -1.0));
+    put(x.q_I_W.coeffs());
+    put(record.variance);
+    std::fprintf(file, "\n");
+  }
+}
+
 }  // namespace
 
 std::vector<EstimatedState> readEstimatedStates(const std::filesystem::path& path) {
@@ -140,34 +172,7 @@ std::vector<EstimatedState> readEstimatedStates(const std::filesystem::path& pat
 }
 
 void writeEstimatedStates(const std::filesystem::path& path, std::span<const StateRecord> records) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (file == nullptr) throw Error(path.string() + ": cannot be written");
-  static constexpr const char* kDeltaNames[kStateDim] = {
-      "dr_x", "dr_y", "dr_z", "dalpha_x", "dalpha_y", "dalpha_z", "dv_x", "dv_y", "dv_z",
-      "db_g_x", "db_g_y", "db_g_z", "db_a_x", "db_a_y", "db_a_z", "dg_x", "dg_y", "dg_z"};
-  std::fprintf(file,
-               "#t_ns,r_W_C_x,r_W_C_y,r_W_C_z,q_W_C_x,q_W_C_y,q_W_C_z,q_W_C_w,v_W_S_x,v_W_S_y,v_W_S_z,"
-               "b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z,g_W_x,g_W_y,g_W_z,q_I_W_x,q_I_W_y,q_I_W_z,q_I_W_w");
-  for (const char* name : kDeltaNames) std::fprintf(file, ",var_%s", name);
-  std::fprintf(file, "\n");
-  const auto put = [&](const auto& vector) {
-    for (Eigen::Index i = 0; i < vector.size(); ++i) std::fprintf(file, ",%.17g", vector[i]);
-  };
-  for (const StateRecord& record : records) {
-    const NavState& x = record.x;
-    std::fprintf(file, "%lld", static_cast<long long>(record.t_ns));
-    put(x.r_W_C);
-    put(x.q_W_C.coeffs());
-    put(x.q_I_W.conjugate() * x.v_I_S);
-    put(x.b_g);
-    put(x.b_a);
-    put(x.q_I_W.conjugate() * Eigen::Vector3d(0.0, 0.0, -1.0));
-    put(x.q_I_W.coeffs());
-    put(record.variance);
-    std::fprintf(file, "\n");
-  }
-  const bool written = std::ferror(file) == 0;
-  if (std::fclose(file) != 0 || !written) throw Error(path.string() + ": write failed");
+  printFileAtomically(path, [&](std::FILE* file) { printStates(file, records); });
 }
 
 }  // namespace vifusion::eval

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "vifusion/core/atomic_file.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/time.hpp"
 
@@ -59,8 +60,8 @@ StampedPose parseLine(const std::vector<std::string_view>& fields, const std::st
     const std::string_view field = fields[k];
     const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), values[k]);
     if (ec != std::errc() || end != field.data() + field.size() || !std::isfinite(values[k])) {
-      throw Error(where + "field '" + std::string(kFieldNames[k]) + "' is not a finite number: '" +
-                  std::string(field) + "'");
+      throw Error(where + "field '" + std::string(kFieldNames[k]) + "' is not a finite number: '" + std::string(field) +
+                  "'");
     }
   }
   StampedPose pose;
@@ -77,8 +78,7 @@ StampedPose parseLine(const std::vector<std::string_view>& fields, const std::st
   const double norm_error = std::abs(q.norm() - 1.0);
   if (!(norm_error <= kMaxQuaternionNormError)) {
     std::ostringstream message;
-    message << where << "quaternion norm " << q.norm() << " is more than " << kMaxQuaternionNormError
-            << " from 1";
+    message << where << "quaternion norm " << q.norm() << " is more than " << kMaxQuaternionNormError << " from 1";
     throw Error(message.str());
   }
   pose.T_world_body = SE3d(q, Eigen::Vector3d(values[1], values[2], values[3]));
@@ -89,7 +89,8 @@ StampedPose parseLine(const std::vector<std::string_view>& fields, const std::st
 std::string formatStamp(std::int64_t t_ns) {
   std::ostringstream out;
   if (t_ns < 0) out << '-';
-  const std::uint64_t magnitude_ns = t_ns < 0 ? 0ULL - static_cast<std::uint64_t>(t_ns) : static_cast<std::uint64_t>(t_ns);
+  const std::uint64_t magnitude_ns =
+      t_ns < 0 ? 0ULL - static_cast<std::uint64_t>(t_ns) : static_cast<std::uint64_t>(t_ns);
   out << magnitude_ns / kNsPerSecond << '.' << std::setw(9) << std::setfill('0') << magnitude_ns % kNsPerSecond;
   return out.str();
 }
@@ -134,16 +135,15 @@ std::vector<StampedPose> readTum(const std::filesystem::path& path) {
 }
 
 void writeTum(const std::filesystem::path& path, const std::vector<StampedPose>& poses) {
-  std::ofstream file(path);
-  if (!file) throw Error("cannot create trajectory file '" + path.string() + "'");
+  std::ostringstream file;
   file << "# timestamp tx ty tz qx qy qz qw\n" << std::fixed << std::setprecision(9);
   for (const StampedPose& pose : poses) {
     const Eigen::Vector3d& t = pose.T_world_body.translation();
     const Eigen::Quaterniond& q = pose.T_world_body.quaternion();
-    file << formatStamp(pose.t_ns) << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' '
-         << q.y() << ' ' << q.z() << ' ' << q.w() << '\n';
+    file << formatStamp(pose.t_ns) << ' ' << t.x() << ' ' << t.y() << ' ' << t.z() << ' ' << q.x() << ' ' << q.y()
+         << ' ' << q.z() << ' ' << q.w() << '\n';
   }
-  if (!file.flush()) throw Error("cannot write trajectory file '" + path.string() + "'");
+  writeFileAtomically(path, file.view());
 }
 
 }  // namespace vifusion::eval

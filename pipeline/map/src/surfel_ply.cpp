@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "atomic_file.hpp"
+#include "vifusion/core/atomic_file.hpp"
 #include "vifusion/core/error.hpp"
 
 namespace vifusion::map {

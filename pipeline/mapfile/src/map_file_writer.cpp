@@ -1,13 +1,8 @@
 #include "vifusion/mapfile/map_file_writer.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <cstring>
-#include <filesystem>
 
 #include "vifusion/core/crc32.hpp"
 #include "vifusion/core/error.hpp"
@@ -39,21 +34,15 @@ std::array<std::uint8_t, kSectionHeaderBytes> sectionHeader(MapSection section, 
 
 }  // namespace
 
-MapFileWriter::MapFileWriter(std::string path, std::size_t buffer_bytes)
-    : path_(std::move(path)), temporary_path_(path_ + ".tmp") {
+MapFileWriter::MapFileWriter(std::string path, std::size_t buffer_bytes) : path_(std::move(path)), file_(path_) {
   if (buffer_bytes < kSectionHeaderBytes) fail("the write buffer must hold at least a section header");
   buffer_.reserve(buffer_bytes);
-  fd_ = ::open(temporary_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) failErrno("cannot create " + temporary_path_);
   const auto header = fileHeader();
   reserve(header.size());
   buffer_.insert(buffer_.end(), header.begin(), header.end());
 }
 
-MapFileWriter::~MapFileWriter() {
-  if (fd_ >= 0) ::close(fd_);
-  if (!committed_) ::unlink(temporary_path_.c_str());
-}
+MapFileWriter::~MapFileWriter() = default;
 
 void MapFileWriter::beginSection(MapSection section) {
   if (in_section_) fail("section '" + std::string(sectionName(section)) + "' begun inside another");
@@ -87,14 +76,10 @@ void MapFileWriter::flush() {
 }
 
 void MapFileWriter::writeAt(std::uint64_t offset, std::span<const std::uint8_t> bytes) {
-  while (!bytes.empty()) {
-    const ssize_t written = ::pwrite(fd_, bytes.data(), bytes.size(), static_cast<off_t>(offset));
-    if (written < 0) {
-      if (errno == EINTR) continue;
-      failErrno("write failed");
-    }
-    bytes = bytes.subspan(static_cast<std::size_t>(written));
-    offset += static_cast<std::uint64_t>(written);
+  try {
+    file_.writeAt(offset, std::as_bytes(bytes));
+  } catch (const Error& error) {
+    fail(error.what());
   }
 }
 
@@ -155,20 +140,10 @@ std::uint64_t MapFileWriter::commit() {
   reserve(end.size());
   buffer_.insert(buffer_.end(), end.begin(), end.end());
   flush();
-  if (::fsync(fd_) != 0) failErrno("fsync failed");
-  if (::close(fd_) != 0) {
-    fd_ = -1;
-    failErrno("close failed");
-  }
-  fd_ = -1;
-  if (::rename(temporary_path_.c_str(), path_.c_str()) != 0) failErrno("cannot rename " + temporary_path_);
-  committed_ = true;
-  // The rename is durable once the directory is synced.
-  const std::filesystem::path directory = std::filesystem::path(path_).parent_path();
-  const int dir_fd = ::open(directory.empty() ? "." : directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir_fd >= 0) {
-    ::fsync(dir_fd);
-    ::close(dir_fd);
+  try {
+    file_.commit();
+  } catch (const Error& error) {
+    fail(error.what());
   }
   return offset_;
 }
@@ -179,7 +154,5 @@ void MapFileWriter::fail(const std::string& what) const {
                   : "";
   throw Error("map file " + path_ + section + ": " + what);
 }
-
-void MapFileWriter::failErrno(const std::string& action) const { fail(action + ": " + std::strerror(errno)); }
 
 }  // namespace vifusion::mapfile

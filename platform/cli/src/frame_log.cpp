@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <numbers>
 
+#include "vifusion/core/atomic_file.hpp"
 #include "vifusion/core/error.hpp"
 
 namespace vifusion::cli {
@@ -52,9 +53,10 @@ void FrameLog::add(const slam::FrameResult& result) {
 }
 
 void FrameLog::write(const std::filesystem::path& path) const {
-  const std::string temporary = path.string() + ".tmp";
-  std::FILE* file = std::fopen(temporary.c_str(), "w");
-  if (file == nullptr) throw Error(temporary + ": cannot be written");
+  printFileAtomically(path, [&](std::FILE* file) { print(file); });
+}
+
+void FrameLog::print(std::FILE* file) const {
   std::fprintf(
       file,
       "#t_ns,tracking,lost,pose_sigma_m,imu,icp_inliers,icp_candidates,rgb_inliers,coverage,fill,iterations,"
@@ -81,8 +83,6 @@ void FrameLog::write(const std::filesystem::path& path) const {
                  r.icp_energy, r.place_agreement.overlap, r.place_agreement.depth_agreeing, r.place_agreement.luma_ncc,
                  r.map_search_hypotheses, r.map_search_verified, r.map_search_cost, r.map_search_inliers);
   }
-  if (std::fclose(file) != 0) throw Error(temporary + ": write failed");
-  std::filesystem::rename(temporary, path);
 }
 
 }  // namespace vifusion::cli

@@ -46,6 +46,7 @@
 //   map_search_hypotheses, map_search_verified, map_search_cost, map_search_inliers   a loaded map's camera that
 //                         no keyframe placed, searched for in the whole map (slam::FrameResult's fields)
 
+#include <cstdio>
 #include <filesystem>
 #include <vector>
 
@@ -60,11 +61,12 @@ class FrameLog {
 
   void add(const slam::FrameResult& result);
 
-  /// Writes frames.csv to `path` (via a temporary file and a rename); throws vifusion::Error naming
+  /// Writes frames.csv to `path` atomically (core/atomic_file.hpp); throws vifusion::Error naming
   /// the file when it cannot be written.
   void write(const std::filesystem::path& path) const;
 
  private:
+  void print(std::FILE* file) const;
   struct Row {
     int64_t t_ns = 0;
     slam::TrackingState tracking = slam::TrackingState::kTracked;

@@ -19,6 +19,7 @@
 #include "run_source.hpp"
 #include "sim_command.hpp"
 #include "vifusion/config/daemon_config.hpp"
+#include "vifusion/core/atomic_file.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/imu_feed.hpp"
 #include "vifusion/core/time.hpp"
@@ -285,16 +286,14 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   // A loaded map's first frames, before the camera was located in it, have no pose: they are left out.
   const std::vector<eval::StampedPose> located(trajectory.begin() + static_cast<std::ptrdiff_t>(relocalising_frames),
                                                trajectory.end());
-  // Written to a temporary name and renamed: an interrupted run never leaves a truncated file.
+  // Every output is written atomically (core/atomic_file.hpp): an interrupted or killed run leaves the
+  // previous complete file or the new one, never a truncated file.
   const std::filesystem::path trajectory_path = std::filesystem::path(options.out) / "trajectory.txt";
-  eval::writeTum(trajectory_path.string() + ".tmp", located);
-  std::filesystem::rename(trajectory_path.string() + ".tmp", trajectory_path);
+  eval::writeTum(trajectory_path, located);
 
   frame_log.write(std::filesystem::path(options.out) / "frames.csv");
   if (inertial) {
-    const std::filesystem::path states_path = std::filesystem::path(options.out) / "states.csv";
-    eval::writeEstimatedStates(states_path.string() + ".tmp", states);
-    std::filesystem::rename(states_path.string() + ".tmp", states_path);
+    eval::writeEstimatedStates(std::filesystem::path(options.out) / "states.csv", states);
   }
 
   const int frames = static_cast<int>(trajectory.size());
@@ -367,13 +366,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   }
 
   const std::filesystem::path report_path = std::filesystem::path(options.out) / "report.json";
-  {
-    std::FILE* file = std::fopen((report_path.string() + ".tmp").c_str(), "w");
-    if (file == nullptr) throw Error(report_path.string() + ".tmp: cannot be written");
-    std::fprintf(file, "%s\n", report.dump(2).c_str());
-    if (std::fclose(file) != 0) throw Error(report_path.string() + ": write failed");
-  }
-  std::filesystem::rename(report_path.string() + ".tmp", report_path);
+  writeFileAtomically(report_path, report.dump(2) + "\n");
   std::printf("%s\n", report.dump().c_str());
   if (bad_input) {
     std::fprintf(stderr,

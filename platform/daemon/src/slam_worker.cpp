@@ -180,17 +180,11 @@ void SlamWorker::writeOutputs() {
   try {
     std::filesystem::create_directories(options_.out_dir);
     const std::filesystem::path trajectory_path = options_.out_dir / "trajectory.txt";
-    const std::filesystem::path temporary = options_.out_dir / "trajectory.txt.tmp";
     std::vector<eval::StampedPose> poses;
     poses.reserve(trajectory_.size());
     for (const mapfile::StampedPose& pose : trajectory_) poses.push_back({pose.t_ns, pose.T_W_C});
-    eval::writeTum(temporary, poses);
-    std::filesystem::rename(temporary, trajectory_path);
-    if (options_.imu != nullptr) {
-      const std::filesystem::path states_path = options_.out_dir / "states.csv";
-      eval::writeEstimatedStates(options_.out_dir / "states.csv.tmp", states_);
-      std::filesystem::rename(options_.out_dir / "states.csv.tmp", states_path);
-    }
+    eval::writeTum(trajectory_path, poses);  // atomically, as every output (core/atomic_file.hpp)
+    if (options_.imu != nullptr) eval::writeEstimatedStates(options_.out_dir / "states.csv", states_);
     std::vector<map::Surfel> surfels;
     pipeline_.exportMap(surfels);
     const std::size_t written =

@@ -270,8 +270,7 @@ TEST(SurfelPly, AWriteThatFailsMidwayLeavesThePreviousFileAndNoTemporaryFile) {
   {
     const FileSizeLimit limit(16 * 1024);  // the new file needs 350 kB
     expectError([&] { map::writeSurfelPly(path, randomSurfels(10'000, 7)); },
-                path.string() + ": writing '" + path.string() +
-                    ".tmp' failed: File too large (the previous file is unchanged)");
+                path.string() + ": writing failed: File too large (the previous file is unchanged)");
   }
   EXPECT_EQ(readFile(path), previous);
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"map.ply"});
@@ -293,7 +292,7 @@ TEST(SurfelPly, AMissingDirectoryIsNamedInTheError) {
   const fs::path path = dir.path() / "missing" / "map.ply";
   expectError(
       [&] { map::writeSurfelPly(path, randomSurfels(10, 9)); },
-      path.string() + ": cannot create the temporary file '" + path.string() + ".tmp': No such file or directory");
+      path.string() + ": cannot create a file in '" + path.parent_path().string() + "': No such file or directory");
 }
 
 TEST(SurfelPly, AReadOnlyDirectoryKeepsThePreviousFile) {
@@ -306,7 +305,7 @@ TEST(SurfelPly, AReadOnlyDirectoryKeepsThePreviousFile) {
   // Root ignores directory permissions (and CI runs as root), so the write is attempted by a child
   // process that first drops to the unprivileged user `nobody` (65534).
   const std::string expected =
-      path.string() + ": cannot create the temporary file '" + path.string() + ".tmp': Permission denied";
+      path.string() + ": cannot create a file in '" + dir.path().string() + "': Permission denied";
   const pid_t child = ::fork();
   ASSERT_GE(child, 0);
   if (child == 0) {

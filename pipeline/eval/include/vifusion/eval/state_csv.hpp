@@ -38,7 +38,7 @@ struct StateRecord {
   Vector18d variance = Vector18d::Zero();  ///< marginal variances of δx
 };
 
-/// Writes states.csv in the layout above with 17 significant digits.
+/// Writes states.csv in the layout above with 17 significant digits, atomically (core/atomic_file.hpp).
 /// @throws vifusion::Error if the file cannot be written.
 void writeEstimatedStates(const std::filesystem::path& path, std::span<const StateRecord> records);
 

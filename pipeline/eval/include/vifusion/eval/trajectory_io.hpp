@@ -30,7 +30,7 @@ std::vector<StampedPose> readTum(const std::filesystem::path& path);
 
 /// Writes poses in TUM format with a '#' header; stamps are written exactly (9 decimals) and poses
 /// with 9 significant digits after the point, enough to round-trip at sub-micrometre precision.
-/// @throws vifusion::Error if the file cannot be written.
+/// Written atomically (core/atomic_file.hpp). @throws vifusion::Error if the file cannot be written.
 void writeTum(const std::filesystem::path& path, const std::vector<StampedPose>& poses);
 
 }  // namespace vifusion::eval

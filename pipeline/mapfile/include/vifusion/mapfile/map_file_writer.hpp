@@ -1,10 +1,9 @@
 #pragma once
 // Writes a map file (map_file_format.hpp) as a stream: sections one after the other, each payload appended
 // field by field or chunk by chunk through one buffer, so a map larger than any host copy of it is written
-// with the buffer's memory only. The file appears at its path only when commit() succeeds: everything goes to
-// "<path>.tmp" first, which is synced, renamed over the path and followed by a sync of the directory, so a
-// crash, a full disk or an exception leaves the previous file at the path untouched (the temporary file is
-// removed when the writer is destroyed uncommitted).
+// with the buffer's memory only. The file appears at its path only when commit() succeeds (core/atomic_file.hpp:
+// an unnamed file, synced, linked in and renamed over the path), so a crash, a SIGKILL, a full disk or an
+// exception leaves the previous file at the path untouched and nothing partial beside it.
 //
 // Errors throw vifusion::Error naming the path, the section being written and the system's reason.
 
@@ -13,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "vifusion/core/atomic_file.hpp"
 #include "vifusion/core/crc32.hpp"
 #include "vifusion/mapfile/map_file_format.hpp"
 
@@ -23,7 +23,7 @@ class MapFileWriter {
   /// Bytes gathered before each write(2): large enough that a write costs little per byte.
   static constexpr std::size_t kDefaultBufferBytes = std::size_t{1} << 20;
 
-  /// Creates "<path>.tmp" and writes the file header. @throws vifusion::Error when it cannot.
+  /// Creates the unwritten file and writes the file header. @throws vifusion::Error when it cannot.
   explicit MapFileWriter(std::string path, std::size_t buffer_bytes = kDefaultBufferBytes);
   ~MapFileWriter();
   MapFileWriter(const MapFileWriter&) = delete;
@@ -54,12 +54,9 @@ class MapFileWriter {
   void flush();
   void writeAt(std::uint64_t offset, std::span<const std::uint8_t> bytes);
   [[noreturn]] void fail(const std::string& what) const;
-  [[noreturn]] void failErrno(const std::string& action) const;
 
   std::string path_;
-  std::string temporary_path_;
-  int fd_ = -1;
-  bool committed_ = false;
+  AtomicFile file_;
   std::vector<std::uint8_t> buffer_;  ///< capacity fixed at construction
   std::uint64_t offset_ = 0;          ///< bytes written to the file so far (the buffer's start)
   int next_section_ = 0;              ///< MapSection expected next

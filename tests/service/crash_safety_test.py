@@ -1,0 +1,153 @@
+"""Issue 22 item 5: SIGKILL at random moments of `vifusion run` and of vifusiond leaves every file in the output
+directory complete: the previous version or the new one, never partial (core/atomic_file.hpp), and the killed
+service starts again on what it left and publishes within 10 s.
+
+usage: crash_safety_test.py BIN_DIR SIM_DIR WORK_DIR DDS_CONFIG CASE
+CASE: run | service
+The kill moments are drawn from a fixed seed over the whole of a run, the final writes included.
+"""
+import json
+import os
+import random
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+from service_harness import Echo, dds_domain_and_partition, fail, main, start, stop
+
+BIN, SIM, WORK, DDS_CONFIG, CASE = sys.argv[1:6]
+KILLS = 20
+PUBLISH_AGAIN_S = 10.0
+PLY_TYPE_BYTES = {"char": 1, "uchar": 1, "short": 2, "ushort": 2, "int": 4, "uint": 4, "float": 4, "double": 8}
+
+
+def check_text_table(path, separator):
+    """Every row has the header's number of fields, and the file ends with a newline."""
+    with open(path) as f:
+        text = f.read()
+    if not text.endswith("\n"):
+        return "does not end with a newline"
+    lines = [line for line in text.splitlines() if line]
+    header = next((line for line in lines if line.startswith("#")), None)
+    rows = [line for line in lines if not line.startswith("#")]
+    width = len(re.split(separator, header.lstrip("#").strip())) if header else len(re.split(separator, rows[0]))
+    for number, row in enumerate(rows):
+        if len(re.split(separator, row.strip())) != width:
+            return f"row {number} has {len(re.split(separator, row.strip()))} fields, the header {width}"
+    return None
+
+
+def check_ply(path):
+    """The binary body holds exactly the vertices the header promises."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.find(b"end_header\n")
+    if not data.startswith(b"ply\n") or end < 0:
+        return "no PLY header"
+    header = data[:end].decode()
+    count = int(re.search(r"element vertex (\d+)", header).group(1))
+    stride = sum(PLY_TYPE_BYTES[t] for t in re.findall(r"property (\w+) \w+", header))
+    body = len(data) - end - len("end_header\n")
+    return None if body == count * stride else f"{body} bytes of vertices, the header promises {count} × {stride}"
+
+
+def check_map_file(path):
+    result = subprocess.run([f"{BIN}/vifusion", "map", "info", path], capture_output=True, text=True)
+    return None if result.returncode == 0 else result.stderr.strip()
+
+
+def check_json(path):
+    try:
+        with open(path) as f:
+            json.load(f)
+    except ValueError as error:
+        return str(error)
+    return None
+
+
+CHECKS = {"trajectory.txt": lambda p: check_text_table(p, r"\s+"), "frames.csv": lambda p: check_text_table(p, ","),
+          "states.csv": lambda p: check_text_table(p, ","), "report.json": check_json, "map.ply": check_ply,
+          "map.vifmap": check_map_file}
+
+
+def check_directory(out, known, after):
+    """Every file is one of `known` outputs (or, after a kill between a link and its rename, a complete
+    '<output>.tmp') and passes its check. Returns the outputs present."""
+    present = []
+    for name in sorted(os.listdir(out)):
+        base = name[:-len(".tmp")] if name.endswith(".tmp") else name
+        if base not in known:
+            fail(f"{after}: unexpected file {name} in {out}")
+        problem = CHECKS[base](os.path.join(out, name))
+        if problem:
+            fail(f"{after}: {name} is partial or corrupt: {problem}")
+        present.append(name)
+    return present
+
+
+def run_case():
+    out = os.path.join(WORK, "crash_run")
+    shutil.rmtree(out, ignore_errors=True)
+    command = [f"{BIN}/vifusion", "run", "--source", f"dataset:{SIM}", "--mode", "rgbdi", "--out", out,
+               "--save-map", os.path.join(out, "map.vifmap")]
+    started = time.monotonic()
+    first = subprocess.run(command, capture_output=True, text=True)
+    whole_s = time.monotonic() - started
+    if first.returncode != 0:
+        fail(f"the complete run failed ({first.returncode}): {first.stderr[-2000:]}")
+    known = set(os.listdir(out))
+    if not {"trajectory.txt", "frames.csv", "report.json", "map.ply", "map.vifmap"} <= known:
+        fail(f"the complete run wrote {sorted(known)}")
+    check_directory(out, known, "the complete run")
+    rng = random.Random(22)
+    for kill in range(KILLS):
+        process = start(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(rng.uniform(0.0, 1.1 * whole_s))
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+        check_directory(out, known, f"kill {kill} (exit {process.returncode})")
+    print(f"vifusion run: {KILLS} SIGKILLs over {whole_s:.1f} s runs: every file complete", flush=True)
+
+
+def service_case():
+    out = os.path.join(WORK, "crash_service")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    map_file = os.path.join(out, "map.vifmap")
+    domain, partition = dds_domain_and_partition("crash-safety-test")
+    dds_args = ["--dds.config", DDS_CONFIG, "--dds.domain", str(domain), "--dds.partition", partition]
+    command = [f"{BIN}/vifusiond", "--source", f"dataset:{SIM}", "--out", out, "--realtime", "true",
+               "--map_file", map_file, "--map_file_required", "false", "--map_save_period_s", "0.5", *dds_args]
+    # A first run stopped cleanly leaves trajectory.txt, map.ply and the map file: the previous versions.
+    daemon = start(command, stderr=subprocess.DEVNULL)
+    time.sleep(3.0)
+    if stop(daemon) != 0:
+        fail(f"the first run stopped with {daemon.returncode}")
+    known = {"trajectory.txt", "map.ply", "map.vifmap"}
+    check_directory(out, known, "the first run")
+    rng = random.Random(22)
+    for kill in range(KILLS):
+        daemon = start(command, stderr=subprocess.DEVNULL)
+        time.sleep(rng.uniform(0.0, 3.0))
+        daemon.send_signal(signal.SIGKILL)
+        daemon.wait()
+        check_directory(out, known, f"kill {kill}")
+    # What the kills left is loaded again (map_file_required stays false only so that a first start may create
+    # it): the service comes back and publishes.
+    restart = [*command[:command.index("--map_file_required") + 1], "true", *command[command.index("--map_file_required") + 2:]]
+    started = time.monotonic()
+    daemon = start(restart, stderr=subprocess.DEVNULL)
+    echo = Echo(f"{BIN}/vifusion", "rt/vifusion/status", 1, PUBLISH_AGAIN_S,
+                ["--dds-config", DDS_CONFIG, "--domain", str(domain), "--partition", partition])
+    if echo.wait(PUBLISH_AGAIN_S + 5) != 0 or not echo.lines:
+        fail(f"after {KILLS} SIGKILLs the service did not publish again within {PUBLISH_AGAIN_S} s")
+    published_s = echo.lines[0][0] - started
+    stop(daemon)
+    print(f"vifusiond: {KILLS} SIGKILLs, every file complete; restarted on the map file and published after "
+          f"{published_s:.1f} s", flush=True)
+
+
+main({"run": run_case, "service": service_case}, CASE)

@@ -109,7 +109,7 @@ TEST(StateCsv, WrittenStatesReadBackInTheWorldFrame) {
   EXPECT_EQ(std::count(header.begin(), header.end(), ','), 41);
   EXPECT_NE(header.find(",var_dg_z"), std::string::npos) << header;
   expectError([&] { writeEstimatedStates("/nonexistent/dir/states.csv", records); },
-              "/nonexistent/dir/states.csv: cannot be written");
+              "/nonexistent/dir/states.csv: cannot create a file in '/nonexistent/dir'");
 }
 
 TEST(StateCsv, CorruptTablesNameFileLineAndColumn) {

@@ -3,6 +3,8 @@
 #include <array>
 #include <fstream>
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "text_fields.hpp"
 #include "vifusion/core/error.hpp"
@@ -15,6 +17,9 @@ using detail::where;
 constexpr std::array<std::string_view, 7> kColumns = {"timestamp", "w_RS_S_x", "w_RS_S_y", "w_RS_S_z",
                                                       "a_RS_S_x",  "a_RS_S_y", "a_RS_S_z"};
 
+/// Position of each wanted column in a row.
+using ColumnIndex = std::array<std::size_t, kColumns.size()>;
+
 // "w_RS_S_x [rad s^-1]" → "w_RS_S_x": the unit text varies between EuRoC tools, the name does not.
 std::string_view columnName(std::string_view header_field) {
   const std::size_t bracket = header_field.find('[');
@@ -23,13 +28,33 @@ std::string_view columnName(std::string_view header_field) {
   return name;
 }
 
+/// One data row; throws vifusion::Error naming file, line and column.
+ImuSample readRow(std::string_view line, const std::string& prefix, const ColumnIndex& index,
+                  std::size_t header_columns, const std::vector<ImuSample>& samples) {
+  const std::vector<std::string_view> fields = detail::splitCsv(line);
+  for (std::size_t c = 0; c < kColumns.size(); ++c) {
+    if (index[c] >= fields.size() || fields[index[c]].empty()) {
+      throw Error(prefix + "column '" + std::string(kColumns[c]) + "' is missing (" + std::to_string(fields.size()) +
+                  " of " + std::to_string(header_columns) + " columns)");
+    }
+  }
+  ImuSample sample;
+  sample.t_ns = detail::parseInt64(fields[index[0]], prefix, kColumns[0]);
+  for (int axis = 0; axis < 3; ++axis) {
+    sample.gyro_rad_s[axis] = detail::parseFinite(fields[index[1 + axis]], prefix, kColumns[1 + axis]);
+    sample.accel_mps2[axis] = detail::parseFinite(fields[index[4 + axis]], prefix, kColumns[4 + axis]);
+  }
+  if (!samples.empty()) detail::requireIncreasing(samples.back().t_ns, sample.t_ns, prefix);
+  return sample;
+}
+
 }  // namespace
 
-std::vector<ImuSample> readEurocImu(const std::filesystem::path& path) {
+std::vector<ImuSample> readEurocImu(const std::filesystem::path& path, std::vector<std::string>* skipped_rows) {
   const std::string file = path.filename().string();
   const std::string text = detail::readTextFile(path, file);
   std::vector<ImuSample> samples;
-  std::array<std::size_t, kColumns.size()> index{};  // position of each wanted column in a row
+  ColumnIndex index{};
   std::size_t header_columns = 0;
   detail::forEachLine(text, [&](std::size_t line_number, std::string_view line) {
     const std::string prefix = where(file, line_number);
@@ -49,21 +74,12 @@ std::vector<ImuSample> readEurocImu(const std::filesystem::path& path) {
       return;
     }
     if (detail::isCommentOrBlank(line)) return;
-    const std::vector<std::string_view> fields = detail::splitCsv(line);
-    for (std::size_t c = 0; c < kColumns.size(); ++c) {
-      if (index[c] >= fields.size() || fields[index[c]].empty()) {
-        throw Error(prefix + "column '" + std::string(kColumns[c]) + "' is missing (" + std::to_string(fields.size()) +
-                    " of " + std::to_string(header_columns) + " columns)");
-      }
+    try {
+      samples.push_back(readRow(line, prefix, index, header_columns, samples));
+    } catch (const Error& error) {
+      if (skipped_rows == nullptr) throw;
+      skipped_rows->push_back(error.what());
     }
-    ImuSample sample;
-    sample.t_ns = detail::parseInt64(fields[index[0]], prefix, kColumns[0]);
-    for (int axis = 0; axis < 3; ++axis) {
-      sample.gyro_rad_s[axis] = detail::parseFinite(fields[index[1 + axis]], prefix, kColumns[1 + axis]);
-      sample.accel_mps2[axis] = detail::parseFinite(fields[index[4 + axis]], prefix, kColumns[4 + axis]);
-    }
-    if (!samples.empty()) detail::requireIncreasing(samples.back().t_ns, sample.t_ns, prefix);
-    samples.push_back(sample);
   });
   if (header_columns == 0) throw Error(file + ": empty file, expected the EuRoC header '#timestamp [ns],...'");
   return samples;

@@ -16,7 +16,7 @@ VifusionDatasetReader::VifusionDatasetReader(const std::filesystem::path& dir)
   if (!std::filesystem::is_directory(dir_, ec)) throw Error("dataset: '" + dir_.string() + "' is not a directory");
   calibration_ = readCalibrationYaml(dir_ / "calibration.yaml");
   frames_ = detail::readTumFrames(dir_);
-  imu_ = readEurocImu(dir_ / "imu.csv");
+  imu_ = readEurocImu(dir_ / "imu.csv", &skipped_imu_rows_);
   if (std::filesystem::exists(dir_ / "groundtruth.txt", ec)) {
     ground_truth_ = detail::readTumTrajectory(dir_ / "groundtruth.txt", "groundtruth.txt");
   }

@@ -97,12 +97,17 @@ void RecordingReader::scan(mcap::McapReader& reader) {
       imu_rate_hz_ = recording.imu_rate_hz;
       have_info = true;
     } else if (id == imu) {
-      const ImuSample sample = sampleFromImu(decode<Imu>(reader, message, kTopicImu));
-      if (!imu_.empty() && sample.t_ns <= imu_.back().t_ns) {
-        throw Error(reader.name() + ": " + std::string(kTopicImu) + " message " + std::to_string(message.sequence) +
-                    ": time goes backwards by " + std::to_string(imu_.back().t_ns - sample.t_ns) + " ns");
+      // A damaged or out-of-order sample is left out and named (the estimator sees the hole as a gap).
+      try {
+        const ImuSample sample = sampleFromImu(decode<Imu>(reader, message, kTopicImu));
+        if (!imu_.empty() && sample.t_ns <= imu_.back().t_ns) {
+          throw Error(reader.name() + ": " + std::string(kTopicImu) + " message " + std::to_string(message.sequence) +
+                      ": time goes backwards by " + std::to_string(imu_.back().t_ns - sample.t_ns) + " ns");
+        }
+        imu_.push_back(sample);
+      } catch (const Error& error) {
+        skipped_imu_rows_.push_back(error.what());
       }
-      imu_.push_back(sample);
     } else if (id == stamps_channel_) {
       if (parts != 0) ++incomplete_frames_;
       const FrameStamps stamps = decode<FrameStamps>(reader, message, kTopicFrameStamps);

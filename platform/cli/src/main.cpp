@@ -56,8 +56,8 @@ int main(int argc, char** argv) {
   run->add_option("--device", run_options.device, "GPU name filter (default: best device; env VIFUSION_GPU_DEVICE)");
   run->add_option("--frames", run_options.max_frames, "Stop after this many frames (0: all)")->capture_default_str();
   run->add_flag("--strict", run_options.strict,
-                "Stop at the first recorded frame that cannot be read (outputs written, exit 3) instead of skipping "
-                "and counting it");
+                "Stop at the first recorded frame or IMU row that cannot be read (outputs written, exit 3) instead of "
+                "skipping and counting it");
   run->add_flag("!--no-photometric", run_options.photometric, "Track with ICP only");
   run->add_flag("!--no-loop-closure", run_options.loop_closure, "Open-loop odometry: no map deformation");
   run->add_flag("!--no-relocalisation", run_options.relocalisation,

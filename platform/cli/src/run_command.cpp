@@ -209,7 +209,13 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   SkippedFrames skipped;
   std::size_t consumed = 0;              ///< frames taken from the source, the skipped ones included
   std::optional<std::string> bad_input;  ///< --strict: why the run stopped early
-  while (consumed < total && !interrupted()) {
+  // IMU rows the reader left out (the estimator sees each hole as a gap): logged once each; --strict stops
+  // before the first frame.
+  const std::span<const std::string> skipped_imu = reader->skippedImuRows();
+  for (const std::string& reason : skipped_imu)
+    std::fprintf(stderr, "vifusion run: IMU row skipped: %s\n", reason.c_str());
+  if (options.strict && !skipped_imu.empty()) bad_input = skipped_imu.front();
+  while (!bad_input && consumed < total && !interrupted()) {
     bool more = false;
     try {
       more = reader->nextFrame(frame);
@@ -297,31 +303,37 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   }
 
   const int frames = static_cast<int>(trajectory.size());
-  nlohmann::json report = {{"source", options.source},
-                           {"dataset", reader->describe()},
-                           {"mode", options.mode},
-                           {"device", context->features().device_name},
-                           {"frames", frames},
-                           {"lost_frames", states_seen.frames(slam::TrackingState::kLost)},
-                           {"tracking_states", states_seen.json()},
-                           {"loop_closure", options.loop_closure},
-                           {"localisation_only", options.localisation_only},
-                           {"closures", closures.json()},
-                           {"closures_against_ground_truth", closure_judge.json()},
-                           {"relocalisation",
-                            {{"enabled", options.relocalisation},
-                             {"relocalisations", relocalisations},
-                             {"keyframes", pipeline.keyframes()}}},
-                           {"skipped_frames", skipped.json()},
-                           {"frames_with_imu_issues", imu_issues},
-                           {"ms_per_frame", budget.wallJson()},
-                           {"gpu_ms_per_frame", budget.gpuJson()},
-                           {"surfels", surfels},
-                           {"map_overflow_surfels", map_overflow},
-                           {"map_evicted_surfels", map_evicted},
-                           {"gauss_newton_iterations_per_frame", mean(iterations, frames)},
-                           {"frames_per_s", frames / wall_s},
-                           {"arena_bytes", pipeline.arenaBytes()}};
+  nlohmann::json report = {
+      {"source", options.source},
+      {"dataset", reader->describe()},
+      {"mode", options.mode},
+      {"device", context->features().device_name},
+      {"frames", frames},
+      {"lost_frames", states_seen.frames(slam::TrackingState::kLost)},
+      {"tracking_states", states_seen.json()},
+      {"loop_closure", options.loop_closure},
+      {"localisation_only", options.localisation_only},
+      {"closures", closures.json()},
+      {"closures_against_ground_truth", closure_judge.json()},
+      {"relocalisation",
+       {{"enabled", options.relocalisation},
+        {"relocalisations", relocalisations},
+        {"keyframes", pipeline.keyframes()}}},
+      {"skipped_frames", skipped.json()},
+      {"skipped_imu_rows",
+       {{"count", skipped_imu.size()},
+        {"first", std::vector<std::string>(skipped_imu.begin(),
+                                           skipped_imu.begin() + static_cast<std::ptrdiff_t>(std::min(
+                                                                     skipped_imu.size(), SkippedFrames::kReported)))}}},
+      {"frames_with_imu_issues", imu_issues},
+      {"ms_per_frame", budget.wallJson()},
+      {"gpu_ms_per_frame", budget.gpuJson()},
+      {"surfels", surfels},
+      {"map_overflow_surfels", map_overflow},
+      {"map_evicted_surfels", map_evicted},
+      {"gauss_newton_iterations_per_frame", mean(iterations, frames)},
+      {"frames_per_s", frames / wall_s},
+      {"arena_bytes", pipeline.arenaBytes()}};
   if (!camera_report.is_null()) report["camera"] = camera_report;
   if (bad_input) report["stopped_at_bad_input"] = *bad_input;
   if (loaded) {

@@ -32,13 +32,15 @@ struct RunOptions {
   std::string load_map;        ///< non-empty: start from this saved map (slam/map_loading.hpp)
   std::string save_map;        ///< non-empty: save the map to this file at the end (slam/map_saving.hpp)
   bool localisation_only = false;  ///< track against load_map without changing it (SlamOptions::mapping false)
-  /// A recorded frame that cannot be read stops the run (outputs written, exit 3) instead of being skipped.
+  /// A recorded frame or IMU row that cannot be read stops the run (outputs written, exit 3) instead of being
+  /// skipped.
   bool strict = false;
 };
 
 /// Returns the exit code: 0, or 3 when the live camera cannot be opened (the message on stderr names what is
 /// missing) or, with `strict`, after a recorded frame could not be read (the outputs hold the frames before it).
-/// Without `strict` such frames are skipped and counted (report.json `skipped_frames`). `backend` reaches the camera
+/// Without `strict` such frames and rows are skipped and counted (report.json `skipped_frames`,
+/// `skipped_imu_rows`). `backend` reaches the camera
 /// for `zr300` sources; null: the real devices (tests pass a scripted camera). @throws vifusion::Error for every other
 /// failure (main() reports it, exit code 2).
 int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> backend);

@@ -143,6 +143,10 @@ int serve(const config::DaemonConfig& config) {
   }
   const std::unique_ptr<datasets::DatasetReader>& source = opened.reader;
   logLine(LogLevel::Info, "source: %s", source->describe().c_str());
+  // IMU rows the reader left out: each hole is a gap to the estimator (frames across it track RGB-D only).
+  for (const std::string& reason : source->skippedImuRows()) {
+    logLine(LogLevel::Warning, "IMU row unreadable, left out: %s", reason.c_str());
+  }
   // The inertial modes need the source's IMU stream; without it, say so now rather than run RGB-D only.
   if (inertial && (source->live() ? opened.live_imu == nullptr : source->imu().empty())) {
     logLine(LogLevel::Error,

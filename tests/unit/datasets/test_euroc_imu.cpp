@@ -92,6 +92,30 @@ TEST(EurocImu, RejectsInfinityAndGarbage) {
   expectError([&] { readEurocImu(dir / "b.csv"); }, "b.csv line 2: column 'timestamp' is not an integer: '1e5'");
 }
 
+// Issue 22: a dataset reader leaves a bad row out and says why, and keeps the rows around it; the header must
+// still be sound.
+TEST(EurocImu, WithSkippedRowsABadRowIsLeftOutAndNamed) {
+  TempDir dir;
+  writeText(dir / "imu.csv", std::string(kHeader) +
+                                 "10000000,0,0,0,0,0,9.81\n"
+                                 "15000000,0,nan,0,0,0,9.81\n"
+                                 "20000000,0,0,0,0,0,9.81\n"
+                                 "12000000,0,0,0,0,0,9.81\n"
+                                 "25000000,0,0,0,0,0\n"
+                                 "30000000,0.5,0,0,0,0,9.81\n");
+  std::vector<std::string> skipped;
+  const std::vector<ImuSample> samples = readEurocImu(dir / "imu.csv", &skipped);
+  ASSERT_EQ(samples.size(), 3u);
+  EXPECT_EQ(samples[1].t_ns, 20'000'000);
+  EXPECT_EQ(samples[2].t_ns, 30'000'000);
+  EXPECT_EQ(samples[2].gyro_rad_s.x(), 0.5);
+  EXPECT_EQ(skipped, (std::vector<std::string>{"imu.csv line 3: column 'w_RS_S_y' is not a number: 'nan'",
+                                               "imu.csv line 5: timestamp goes backwards by 8 ms",
+                                               "imu.csv line 6: column 'a_RS_S_z' is missing (6 of 7 columns)"}));
+  writeText(dir / "no_header.csv", "10000000,0,0,0,0,0,9.81\n");
+  expectError([&] { readEurocImu(dir / "no_header.csv", &skipped); }, "no_header.csv line 1: expected the header");
+}
+
 TEST(EurocImu, RejectsTimeGoingBackwardsOrRepeating) {
   TempDir dir;
   writeText(dir / "imu.csv", std::string(kHeader) + "10000000,0,0,0,0,0,9.81\n5000000,0,0,0,0,0,9.81\n");
@@ -129,15 +153,20 @@ TEST(GroundTruthStates, WriterRoundTrips) {
 
 TEST(GroundTruthStates, RejectsReorderedHeaderAndNonUnitQuaternion) {
   TempDir dir;
-  writeText(dir / "s.csv", "#t_ns,p_W_S_x,p_W_S_y,p_W_S_z,q_W_S_w,q_W_S_x,q_W_S_y,q_W_S_z,v_W_S_x,v_W_S_y,v_W_S_z,"
-                           "b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z\n");
-  expectError([&] { readGroundTruthStates(dir / "s.csv"); }, "s.csv line 1: header column 5 is 'q_W_S_w', expected 'q_W_S_x'");
-  const std::string header = "#t_ns,p_W_S_x,p_W_S_y,p_W_S_z,q_W_S_x,q_W_S_y,q_W_S_z,q_W_S_w,v_W_S_x,v_W_S_y,v_W_S_z,"
-                             "b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z\n";
+  writeText(dir / "s.csv",
+            "#t_ns,p_W_S_x,p_W_S_y,p_W_S_z,q_W_S_w,q_W_S_x,q_W_S_y,q_W_S_z,v_W_S_x,v_W_S_y,v_W_S_z,"
+            "b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z\n");
+  expectError([&] { readGroundTruthStates(dir / "s.csv"); },
+              "s.csv line 1: header column 5 is 'q_W_S_w', expected 'q_W_S_x'");
+  const std::string header =
+      "#t_ns,p_W_S_x,p_W_S_y,p_W_S_z,q_W_S_x,q_W_S_y,q_W_S_z,q_W_S_w,v_W_S_x,v_W_S_y,v_W_S_z,"
+      "b_g_x,b_g_y,b_g_z,b_a_x,b_a_y,b_a_z\n";
   writeText(dir / "q.csv", header + "1,0,0,0,0,0,0,1.1,0,0,0,0,0,0,0,0,0\n");
-  expectError([&] { readGroundTruthStates(dir / "q.csv"); }, "q.csv line 2: quaternion norm 1.1 is more than 0.001 from 1");
+  expectError([&] { readGroundTruthStates(dir / "q.csv"); },
+              "q.csv line 2: quaternion norm 1.1 is more than 0.001 from 1");
   writeText(dir / "m.csv", header + "1,0,0,0,0,0,0,1,0,0,0,0,0,0,0,0\n");
-  expectError([&] { readGroundTruthStates(dir / "m.csv"); }, "m.csv line 2: column 'b_a_z' is missing (16 of 17 columns)");
+  expectError([&] { readGroundTruthStates(dir / "m.csv"); },
+              "m.csv line 2: column 'b_a_z' is missing (16 of 17 columns)");
 }
 
 }  // namespace

@@ -48,6 +48,10 @@ class DatasetReader {
   /// Every IMU sample of the sequence, strictly increasing in time; empty if the dataset has none.
   virtual std::span<const ImuSample> imu() const { return {}; }
 
+  /// IMU rows that could not be read (not a number, a column missing, time not increasing) and were left
+  /// out of imu(), each as the reader's error naming file and line; the estimator sees the hole as a gap.
+  virtual std::span<const std::string> skippedImuRows() const { return {}; }
+
   /// Ground-truth camera poses T_world_camera, strictly increasing in time; empty if none.
   virtual std::span<const StampedPose> groundTruth() const { return {}; }
 

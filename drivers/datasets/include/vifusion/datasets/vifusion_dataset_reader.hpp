@@ -31,6 +31,7 @@ class VifusionDatasetReader final : public DatasetReader {
   std::size_t frameCount() const override;
   bool nextFrame(RgbdFrame& frame) override;
   std::span<const ImuSample> imu() const override { return imu_; }
+  std::span<const std::string> skippedImuRows() const override { return skipped_imu_rows_; }
   std::span<const StampedPose> groundTruth() const override { return ground_truth_; }
   std::span<const GroundTruthState> groundTruthStates() const override { return states_; }
   std::string describe() const override;
@@ -40,6 +41,7 @@ class VifusionDatasetReader final : public DatasetReader {
   RigCalibration calibration_;
   std::vector<detail::FrameFiles> frames_;
   std::vector<ImuSample> imu_;
+  std::vector<std::string> skipped_imu_rows_;
   std::vector<StampedPose> ground_truth_;
   std::vector<GroundTruthState> states_;
   std::size_t next_ = 0;

@@ -56,6 +56,7 @@ class RecordingReader final : public datasets::DatasetReader {
   std::size_t frameCount() const override { return stamps_.size(); }
   bool nextFrame(RgbdFrame& frame) override;
   std::span<const ImuSample> imu() const override { return imu_; }
+  std::span<const std::string> skippedImuRows() const override { return skipped_imu_rows_; }
   std::span<const datasets::StampedPose> groundTruth() const override { return ground_truth_; }
   std::string describe() const override;
 
@@ -87,6 +88,7 @@ class RecordingReader final : public datasets::DatasetReader {
   std::string source_, mode_, note_;
   double frame_rate_hz_ = 0.0, imu_rate_hz_ = 0.0;
   std::vector<ImuSample> imu_;
+  std::vector<std::string> skipped_imu_rows_;  ///< damaged or out-of-order IMU messages, each named
   std::vector<datasets::StampedPose> ground_truth_;
   std::vector<FrameStampsRecord> stamps_;
   std::vector<RecordedSyncEdge> edges_;

@@ -12,6 +12,7 @@
 
 #include "seed_writer.hpp"
 #include "vifusion/core/error.hpp"
+#include "vifusion/test/klg_log.hpp"
 
 namespace vifusion::fuzz::seeds {
 namespace {
@@ -46,13 +47,6 @@ cv::Mat resized(const cv::Mat& image, int width, int height, int interpolation) 
   return out;
 }
 
-template <typename T>
-void append(std::vector<std::uint8_t>& bytes, T value) {
-  const std::size_t at = bytes.size();
-  bytes.resize(at + sizeof(T));
-  std::memcpy(bytes.data() + at, &value, sizeof(T));
-}
-
 std::vector<std::uint8_t> zlibCompressed(const cv::Mat& depth) {
   const auto raw_size = static_cast<uLong>(depth.total() * depth.elemSize());
   uLongf size = compressBound(raw_size);
@@ -60,27 +54,6 @@ std::vector<std::uint8_t> zlibCompressed(const cv::Mat& depth) {
   if (compress2(out.data(), &size, depth.data, raw_size, Z_BEST_COMPRESSION) != Z_OK) throw Error("zlib failed");
   out.resize(size);
   return out;
-}
-
-struct KlgFrame {
-  std::int64_t t_us = 0;
-  std::vector<std::uint8_t> depth;
-  std::vector<std::uint8_t> image;
-};
-
-/// ElasticFusion's log layout: int32 frame count, then per frame int64 t [µs], int32 depth and image sizes,
-/// the depth bytes, the image bytes (all little-endian).
-std::vector<std::uint8_t> klgBytes(const std::vector<KlgFrame>& frames) {
-  std::vector<std::uint8_t> bytes;
-  append(bytes, static_cast<std::int32_t>(frames.size()));
-  for (const KlgFrame& frame : frames) {
-    append(bytes, frame.t_us);
-    append(bytes, static_cast<std::int32_t>(frame.depth.size()));
-    append(bytes, static_cast<std::int32_t>(frame.image.size()));
-    bytes.insert(bytes.end(), frame.depth.begin(), frame.depth.end());
-    bytes.insert(bytes.end(), frame.image.begin(), frame.image.end());
-  }
-  return bytes;
 }
 
 }  // namespace
@@ -121,8 +94,9 @@ void writeKlgSeeds(const std::filesystem::path& root, const std::filesystem::pat
       resized(resized(frame.bgr, 40, 30, cv::INTER_AREA), kKlgWidth, kKlgHeight, cv::INTER_NEAREST);
   const std::vector<std::uint8_t> depth = zlibCompressed(blocky_depth);
   const std::vector<std::uint8_t> jpeg = encoded(".jpg", blocky_bgr, {cv::IMWRITE_JPEG_QUALITY, 10});
-  seeds.write("jpeg_and_empty.klg", std::nullopt, klgBytes({{5'000'000, depth, jpeg}, {5'033'333, depth, {}}}));
-  seeds.write("one_frame.klg", std::nullopt, klgBytes({{0, depth, jpeg}}));
+  seeds.write("jpeg_and_empty.klg", std::nullopt,
+              test::klgBytes({{5'000'000, depth, jpeg}, {5'033'333, depth, {}}}, 2));
+  seeds.write("one_frame.klg", std::nullopt, test::klgBytes({{0, depth, jpeg}}, 1));
 }
 
 }  // namespace vifusion::fuzz::seeds

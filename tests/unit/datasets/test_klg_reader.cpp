@@ -7,36 +7,13 @@
 #include "fixtures.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
 #include "vifusion/datasets/klg_reader.hpp"
+#include "vifusion/test/klg_log.hpp"
 
 namespace vifusion::datasets::test {
 namespace {
 
-/// One frame of a .klg log as ElasticFusion's loggers write it.
-struct KlgFrame {
-  std::int64_t t_us = 0;
-  std::vector<std::uint8_t> depth;
-  std::vector<std::uint8_t> image;
-};
-
-template <typename T>
-void append(std::vector<std::uint8_t>& bytes, T value) {
-  std::uint8_t raw[sizeof(T)];
-  std::memcpy(raw, &value, sizeof(T));
-  bytes.insert(bytes.end(), raw, raw + sizeof(T));
-}
-
-std::vector<std::uint8_t> klgBytes(const std::vector<KlgFrame>& frames, std::int32_t frame_count) {
-  std::vector<std::uint8_t> bytes;
-  append(bytes, frame_count);
-  for (const KlgFrame& frame : frames) {
-    append(bytes, frame.t_us);
-    append(bytes, static_cast<std::int32_t>(frame.depth.size()));
-    append(bytes, static_cast<std::int32_t>(frame.image.size()));
-    bytes.insert(bytes.end(), frame.depth.begin(), frame.depth.end());
-    bytes.insert(bytes.end(), frame.image.begin(), frame.image.end());
-  }
-  return bytes;
-}
+using vifusion::test::klgBytes;
+using vifusion::test::KlgFrame;
 
 std::vector<std::uint8_t> rawDepth(int k) {
   const cv::Mat depth = depthImage(640, 480, k);
@@ -129,19 +106,20 @@ TEST_F(KlgReaderTest, BytesAfterTheLastFrameAreAnError) {
 
 TEST_F(KlgReaderTest, NegativeOrHugeSizesAreErrors) {
   std::vector<std::uint8_t> bytes;
-  append(bytes, std::int32_t{1});
-  append(bytes, std::int64_t{10});
-  append(bytes, std::int32_t{-5});
-  append(bytes, std::int32_t{0});
+  vifusion::test::appendLittleEndian(bytes, std::int32_t{1});
+  vifusion::test::appendLittleEndian(bytes, std::int64_t{10});
+  vifusion::test::appendLittleEndian(bytes, std::int32_t{-5});
+  vifusion::test::appendLittleEndian(bytes, std::int32_t{0});
   writeBytes(path_, bytes);
   expectError([&] { KlgReader reader(path_); }, "log.klg frame 0: depth size -5 must be > 0");
 
   bytes.resize(4 + 8);
-  append(bytes, std::int32_t{100});
-  append(bytes, std::int32_t{2'000'000'000});
+  vifusion::test::appendLittleEndian(bytes, std::int32_t{100});
+  vifusion::test::appendLittleEndian(bytes, std::int32_t{2'000'000'000});
   bytes.resize(bytes.size() + 100);
   writeBytes(path_, bytes);
-  expectError([&] { KlgReader reader(path_); }, "log.klg frame 0: depth (100 bytes) and image (2000000000 bytes) run past");
+  expectError([&] { KlgReader reader(path_); },
+              "log.klg frame 0: depth (100 bytes) and image (2000000000 bytes) run past");
 
   writeBytes(path_, {1, 2});
   expectError([&] { KlgReader reader(path_); }, "log.klg: truncated: 2 bytes, no frame count");

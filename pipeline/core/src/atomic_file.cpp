@@ -27,7 +27,7 @@ bool lacksUnnamedFiles(int error_number) {
 }  // namespace
 
 AtomicFile::AtomicFile(std::filesystem::path path) : path_(std::move(path)), temporary_(path_.string() + ".tmp") {
-  constexpr mode_t kMode = 0644;  // as ofstream creates files (before the umask)
+  constexpr mode_t kMode = 0644;  // owner writes, all read (less the umask), as the map file always had
   fd_ = ::open(directoryOf(path_).c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, kMode);
   unnamed_ = fd_ >= 0;
   if (fd_ < 0 && lacksUnnamedFiles(errno)) {

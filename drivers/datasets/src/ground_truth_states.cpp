@@ -12,9 +12,9 @@
 namespace vifusion::datasets {
 namespace {
 
-constexpr std::array<std::string_view, 17> kColumns = {
-    "t_ns",    "p_W_S_x", "p_W_S_y", "p_W_S_z", "q_W_S_x", "q_W_S_y", "q_W_S_z", "q_W_S_w", "v_W_S_x",
-    "v_W_S_y", "v_W_S_z", "b_g_x",   "b_g_y",   "b_g_z",   "b_a_x",   "b_a_y",   "b_a_z"};
+constexpr std::array<std::string_view, 17> kColumns = {"t_ns",    "p_W_S_x", "p_W_S_y", "p_W_S_z", "q_W_S_x", "q_W_S_y",
+                                                       "q_W_S_z", "q_W_S_w", "v_W_S_x", "v_W_S_y", "v_W_S_z", "b_g_x",
+                                                       "b_g_y",   "b_g_z",   "b_a_x",   "b_a_y",   "b_a_z"};
 
 // The simulator writes unit quaternions with 17 digits; a larger error is a corrupt row.
 constexpr double kMaxQuaternionNormError = 1e-3;
@@ -82,9 +82,9 @@ void writeGroundTruthStates(const std::filesystem::path& path, std::span<const G
   for (const GroundTruthState& s : states) {
     const Eigen::Quaterniond& q = s.q_W_S;
     out << s.t_ns;
-    for (const double value : {s.p_W_S.x(), s.p_W_S.y(), s.p_W_S.z(), q.x(), q.y(), q.z(), q.w(), s.v_W_S.x(),
-                               s.v_W_S.y(), s.v_W_S.z(), s.b_g.x(), s.b_g.y(), s.b_g.z(), s.b_a.x(), s.b_a.y(),
-                               s.b_a.z()}) {
+    for (const double value :
+         {s.p_W_S.x(), s.p_W_S.y(), s.p_W_S.z(), q.x(), q.y(), q.z(), q.w(), s.v_W_S.x(), s.v_W_S.y(), s.v_W_S.z(),
+          s.b_g.x(), s.b_g.y(), s.b_g.z(), s.b_a.x(), s.b_a.y(), s.b_a.z()}) {
       out << ',' << value;
     }
     out << '\n';

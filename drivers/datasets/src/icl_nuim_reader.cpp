@@ -68,6 +68,10 @@ IclNuimReader::IclNuimReader(const std::filesystem::path& dir)
 
 IclNuimReader::~IclNuimReader() = default;
 
+std::optional<std::int64_t> IclNuimReader::listedFrameTimeNs(std::size_t index) const {
+  return index < frames_.size() ? std::optional<std::int64_t>(frames_[index].t_ns) : std::nullopt;
+}
+
 std::size_t IclNuimReader::frameCount() const { return frames_.size(); }
 
 bool IclNuimReader::nextFrame(RgbdFrame& frame) {

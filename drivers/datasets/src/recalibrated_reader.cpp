@@ -20,6 +20,9 @@ class RecalibratedReader final : public DatasetReader {
   bool live() const override { return recording_->live(); }
   bool nextFrame(RgbdFrame& frame) override { return recording_->nextFrame(frame); }
   std::span<const ImuSample> imu() const override { return recording_->imu(); }
+  std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override {
+    return recording_->listedFrameTimeNs(index);
+  }
   std::span<const std::string> skippedImuRows() const override { return recording_->skippedImuRows(); }
   std::span<const StampedPose> groundTruth() const override { return recording_->groundTruth(); }
   std::span<const GroundTruthState> groundTruthStates() const override { return recording_->groundTruthStates(); }

@@ -143,6 +143,10 @@ SevenScenesReader::SevenScenesReader(const std::filesystem::path& dir)
 
 SevenScenesReader::~SevenScenesReader() = default;
 
+std::optional<std::int64_t> SevenScenesReader::listedFrameTimeNs(std::size_t index) const {
+  return index < frame_numbers_.size() ? std::optional<std::int64_t>(frameTimeNs(frame_numbers_[index])) : std::nullopt;
+}
+
 bool SevenScenesReader::nextFrame(RgbdFrame& frame) {
   if (next_ >= frame_numbers_.size()) return false;
   const std::size_t index = next_++;  // past it even when it cannot be read: the caller may skip it

@@ -48,7 +48,8 @@ std::vector<std::string_view> splitCsv(std::string_view line) {
   std::size_t begin = 0;
   while (true) {
     const std::size_t comma = line.find(',', begin);
-    fields.push_back(trim(line.substr(begin, comma == std::string_view::npos ? std::string_view::npos : comma - begin)));
+    fields.push_back(
+        trim(line.substr(begin, comma == std::string_view::npos ? std::string_view::npos : comma - begin)));
     if (comma == std::string_view::npos) break;
     begin = comma + 1;
   }
@@ -81,7 +82,8 @@ std::int64_t parseSecondsToNs(std::string_view text, const std::string& prefix, 
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), t_s);
   // Negative stamps are refused: every dataset time base here starts at or after zero.
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(t_s) || t_s < 0.0 || t_s >= 9.2e9) {
-    throw Error(prefix + "field '" + std::string(name) + "' is not a timestamp in seconds: '" + std::string(text) + "'");
+    throw Error(prefix + "field '" + std::string(name) + "' is not a timestamp in seconds: '" + std::string(text) +
+                "'");
   }
   return secondsToNs(t_s);
 }

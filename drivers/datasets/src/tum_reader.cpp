@@ -67,6 +67,10 @@ TumReader::TumReader(const std::filesystem::path& dir) : dir_(dir), decoder_(std
 
 TumReader::~TumReader() = default;
 
+std::optional<std::int64_t> TumReader::listedFrameTimeNs(std::size_t index) const {
+  return index < frames_.size() ? std::optional<std::int64_t>(frames_[index].t_ns) : std::nullopt;
+}
+
 std::size_t TumReader::frameCount() const { return frames_.size(); }
 
 bool TumReader::nextFrame(RgbdFrame& frame) {

@@ -27,6 +27,10 @@ VifusionDatasetReader::VifusionDatasetReader(const std::filesystem::path& dir)
 
 VifusionDatasetReader::~VifusionDatasetReader() = default;
 
+std::optional<std::int64_t> VifusionDatasetReader::listedFrameTimeNs(std::size_t index) const {
+  return index < frames_.size() ? std::optional<std::int64_t>(frames_[index].t_ns) : std::nullopt;
+}
+
 std::size_t VifusionDatasetReader::frameCount() const { return frames_.size(); }
 
 bool VifusionDatasetReader::nextFrame(RgbdFrame& frame) {

@@ -52,6 +52,13 @@ void FrameLog::add(const slam::FrameResult& result) {
                    result.map_search_inliers});
 }
 
+void FrameLog::addUnreadable(std::int64_t t_ns) {
+  Row row;
+  row.t_ns = t_ns;
+  row.unreadable = true;
+  rows_.push_back(row);
+}
+
 void FrameLog::write(const std::filesystem::path& path) const {
   printFileAtomically(path, [&](std::FILE* file) { print(file); });
 }
@@ -66,13 +73,13 @@ void FrameLog::print(std::FILE* file) const {
       "inliers,closure_sigma_mm,closure_sigma_deg,closure_ms,closure_correction_mm,closure_correction_deg,closure_"
       "chi2,closure_free_directions,relocalised,icp_energy,place_overlap,place_depth_agreeing,place_luma_ncc,map_"
       "search_hypotheses,map_search_"
-      "verified,map_search_cost,map_search_inliers\n");
+      "verified,map_search_cost,map_search_inliers,unreadable\n");
   for (const Row& r : rows_) {
     std::fprintf(file,
                  "%lld,%d,%d,%.6g,%d,%.0f,%.0f,%.0f,%.4f,%d,%d,%u,%u,%u,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.6g,%.6g,%"
                  "d,%d,%d,%.3f,%.0f,%.3f,%"
-                 ".4f,%.1f,%.3f,%.4f,%.4g,%d,%d,%.3f,%d,%d,%.3f,%d,%d,%.4f,%.3f\n",
-                 static_cast<long long>(r.t_ns), static_cast<int>(r.tracking),
+                 ".4f,%.1f,%.3f,%.4f,%.4g,%d,%d,%.3f,%d,%d,%.3f,%d,%d,%.4f,%.3f,%d\n",
+                 static_cast<long long>(r.t_ns), r.unreadable ? -1 : static_cast<int>(r.tracking),
                  r.tracking == slam::TrackingState::kLost ? 1 : 0, r.pose_sigma_m, r.imu ? 1 : 0, r.icp_inliers,
                  r.icp_candidates, r.rgb_inliers, r.coverage, r.fill ? 1 : 0, r.iterations, r.surfels, r.active_surfels,
                  r.evicted, r.preprocess_ms, r.tracking_ms, r.mapping_ms, r.map_stages.fusion_ms,
@@ -81,7 +88,8 @@ void FrameLog::print(std::FILE* file) const {
                  r.closure_inliers, r.closure_sigma_mm, r.closure_sigma_deg, r.closure_ms, r.closure_correction_mm,
                  r.closure_correction_deg, r.closure_chi2, r.closure_free_directions, r.relocalised ? 1 : 0,
                  r.icp_energy, r.place_agreement.overlap, r.place_agreement.depth_agreeing, r.place_agreement.luma_ncc,
-                 r.map_search_hypotheses, r.map_search_verified, r.map_search_cost, r.map_search_inliers);
+                 r.map_search_hypotheses, r.map_search_verified, r.map_search_cost, r.map_search_inliers,
+                 r.unreadable ? 1 : 0);
   }
 }
 

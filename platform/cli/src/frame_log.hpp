@@ -45,6 +45,9 @@
 //                         (loop/keyframe_agreement.hpp): overlapping blocks, those within the depth gate, luma NCC
 //   map_search_hypotheses, map_search_verified, map_search_cost, map_search_inliers   a loaded map's camera that
 //                         no keyframe placed, searched for in the whole map (slam::FrameResult's fields)
+//   unreadable            1: the recorded frame could not be read and was skipped (report.json skipped_frames):
+//                         t_ns is its listed time (−1 where the source lists none), tracking −1, and the other
+//                         columns hold no measurement
 
 #include <cstdio>
 #include <filesystem>
@@ -60,6 +63,8 @@ class FrameLog {
   explicit FrameLog(std::size_t frames) { rows_.reserve(frames); }
 
   void add(const slam::FrameResult& result);
+  /// A recorded frame that could not be read, at its listed time (−1: unknown).
+  void addUnreadable(std::int64_t t_ns);
 
   /// Writes frames.csv to `path` atomically (core/atomic_file.hpp); throws vifusion::Error naming
   /// the file when it cannot be written.
@@ -102,6 +107,7 @@ class FrameLog {
     int map_search_verified = 0;
     double map_search_cost = 1.0;
     double map_search_inliers = 0.0;
+    bool unreadable = false;
   };
   std::vector<Row> rows_;
 };

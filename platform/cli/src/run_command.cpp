@@ -127,6 +127,9 @@ class TrackingStateCounts {
 
 /// Recorded frames that could not be read (a truncated PNG, a corrupt message): skipped, counted and each
 /// logged once with the reader's reason, which names the file; the report keeps the first kReported.
+/// frames.csv's t_ns for a skipped frame whose source lists no time.
+constexpr std::int64_t kUnknownFrameTime = -1;
+
 class SkippedFrames {
  public:
   static constexpr std::size_t kReported = 20;
@@ -225,6 +228,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
         bad_input = "frame " + std::to_string(consumed) + ": " + error.what();
         break;
       }
+      frame_log.addUnreadable(reader->listedFrameTimeNs(consumed).value_or(kUnknownFrameTime));
       skipped.add(consumed++, error.what());
       continue;
     }

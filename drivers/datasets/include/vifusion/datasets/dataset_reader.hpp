@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -44,6 +45,13 @@ class DatasetReader {
   /// @throws vifusion::Error for an unreadable, truncated or wrongly sized/typed image, naming it; a recorded
   /// source has then moved past that frame, so the next call reads the one after (a caller may skip it).
   virtual bool nextFrame(RgbdFrame& frame) = 0;
+
+  /// The time a recorded source lists for its frame `index` (0-based, in nextFrame() order), known even when
+  /// the frame cannot be read; nullopt where the source lists none (live sources, recordings).
+  virtual std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const {
+    (void)index;
+    return std::nullopt;
+  }
 
   /// Every IMU sample of the sequence, strictly increasing in time; empty if the dataset has none.
   virtual std::span<const ImuSample> imu() const { return {}; }

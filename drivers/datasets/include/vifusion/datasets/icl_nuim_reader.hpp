@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,7 @@ class IclNuimReader final : public DatasetReader {
 
   const RigCalibration& calibration() const override { return calibration_; }
   std::size_t frameCount() const override;
+  std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override;
   bool nextFrame(RgbdFrame& frame) override;
   std::span<const StampedPose> groundTruth() const override { return ground_truth_; }
   std::string describe() const override;

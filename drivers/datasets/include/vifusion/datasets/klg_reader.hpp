@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ class KlgReader final : public DatasetReader {
 
   const RigCalibration& calibration() const override { return calibration_; }
   std::size_t frameCount() const override { return records_.size(); }
+  std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override {
+    return index < records_.size() ? std::optional<std::int64_t>(records_[index].t_ns) : std::nullopt;
+  }
   /// @throws vifusion::Error for corrupt zlib depth or JPEG colour, naming the frame.
   bool nextFrame(RgbdFrame& frame) override;
   std::string describe() const override;

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ class SevenScenesReader final : public DatasetReader {
 
   const RigCalibration& calibration() const override { return calibration_; }
   std::size_t frameCount() const override { return frame_numbers_.size(); }
+  std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override;
   bool nextFrame(RgbdFrame& frame) override;
   std::span<const StampedPose> groundTruth() const override { return ground_truth_; }
   std::string describe() const override;

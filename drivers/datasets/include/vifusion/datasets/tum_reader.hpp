@@ -16,6 +16,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,7 @@ class TumReader final : public DatasetReader {
 
   const RigCalibration& calibration() const override { return calibration_; }
   std::size_t frameCount() const override;
+  std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override;
   bool nextFrame(RgbdFrame& frame) override;
   std::span<const ImuSample> imu() const override { return accelerometer_; }
   std::span<const StampedPose> groundTruth() const override { return ground_truth_; }

@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ class VifusionDatasetReader final : public DatasetReader {
 
   const RigCalibration& calibration() const override { return calibration_; }
   std::size_t frameCount() const override;
+  std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override;
   bool nextFrame(RgbdFrame& frame) override;
   std::span<const ImuSample> imu() const override { return imu_; }
   std::span<const std::string> skippedImuRows() const override { return skipped_imu_rows_; }

@@ -103,5 +103,39 @@ TEST_F(GpuTest, SubmittingAnEmptySequenceIsAnError) {
   EXPECT_THROW(sequence->submit(), Error);
 }
 
+TEST(GpuDeviceLoss, EverySubmitAfterTheLossFailsNamingItAndEarlierWorkStillCompletes) {
+  // A context of its own: a lost device stays lost, and the shared one serves the other tests.
+  const auto lost = gpu::GpuContext::create(gpu::GpuOptions{}.withEnvironment());
+  constexpr uint32_t kCount = 64;
+  gpu::CapacityPlan plan;
+  const auto buffer = plan.addBuffer("values", kCount * sizeof(float), gpu::MemoryUse::Readback);
+  const auto arena = gpu::MemoryArena::create(*lost, plan);
+  auto kernel = gpu::ComputeKernel::create(*lost, scaleAddSpec(1.0f));
+  const gpu::BindingSet set = kernel->bind({&arena->buffer(buffer), &arena->buffer(buffer)});
+  auto sequence = gpu::CommandSequence::create(*lost, "before_and_after_the_loss");
+  sequence->record([&](gpu::CommandRecorder& recorder) {
+    recorder.dispatch(*kernel, set, {1, 1, 1}, ScaleAddPush{kCount, 1.0f});
+    recorder.hostReadBarrier();
+  });
+  const uint64_t before = sequence->submit();
+  EXPECT_FALSE(lost->deviceLost());
+
+  lost->simulateDeviceLoss();
+  EXPECT_TRUE(lost->deviceLost());
+  for (int attempt = 0; attempt < 2; ++attempt) {  // lost stays lost
+    try {
+      sequence->submit();
+      ADD_FAILURE() << "a submit after the loss succeeded";
+    } catch (const Error& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << message;
+      EXPECT_NE(message.find("before_and_after_the_loss"), std::string::npos) << message;
+    }
+  }
+  sequence->wait(before);  // submitted before the loss: it completes, so teardown never waits forever
+  EXPECT_TRUE(sequence->isComplete(before));
+  EXPECT_EQ(lost->validationMessageCount(), 0u) << lost->firstValidationMessage();
+}
+
 }  // namespace
 }  // namespace vifusion

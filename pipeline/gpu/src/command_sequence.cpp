@@ -136,10 +136,7 @@ uint64_t CommandSequence::submit() {
   submit_info.pCommandBuffers = &command_buffer_;
   submit_info.signalSemaphoreCount = 1;
   submit_info.pSignalSemaphores = &timeline_;
-  {
-    std::lock_guard lock(context_.queueMutex());
-    checkVk(vkQueueSubmit(context_.queue(), 1, &submit_info, VK_NULL_HANDLE), "submitting command sequence", name_);
-  }
+  checkVk(context_.submit(submit_info), "submitting command sequence", name_);
   last_submitted_ = signal_value;
   return signal_value;
 }

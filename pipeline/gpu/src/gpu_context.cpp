@@ -334,6 +334,14 @@ GpuContext::~GpuContext() {
   if (instance_ != VK_NULL_HANDLE) vkDestroyInstance(instance_, nullptr);
 }
 
+VkResult GpuContext::submit(const VkSubmitInfo& info) {
+  std::lock_guard lock(queue_mutex_);
+  if (device_lost_) return VK_ERROR_DEVICE_LOST;
+  const VkResult result = vkQueueSubmit(queue_, 1, &info, VK_NULL_HANDLE);
+  if (result == VK_ERROR_DEVICE_LOST) device_lost_ = true;
+  return result;
+}
+
 uint32_t GpuContext::validationMessageCount() const { return validation_ ? validation_->messages.load() : 0; }
 
 std::string GpuContext::firstValidationMessage() const {

@@ -73,8 +73,14 @@ class GpuContext {
   uint32_t validationMessageCount() const;
   std::string firstValidationMessage() const;
 
-  /// Serialises queue submission; one SLAM thread owns the GPU, but tools may share a context.
-  std::mutex& queueMutex() { return queue_mutex_; }
+  /// Submits `info` to the compute queue, serialised (one SLAM thread owns the GPU, but tools may share a
+  /// context). Once the device is lost — VK_ERROR_DEVICE_LOST from the driver, or simulateDeviceLoss() — every
+  /// later submit returns VK_ERROR_DEVICE_LOST without reaching the driver, as a lost device does.
+  VkResult submit(const VkSubmitInfo& info);
+  /// The fault-injection seam (`vifusion run --inject device-lost@K`, vifusiond's `inject`): from now on the
+  /// device behaves as lost. Work already submitted still completes, so waits and teardown stay safe.
+  void simulateDeviceLoss() { device_lost_ = true; }
+  bool deviceLost() const { return device_lost_; }
 
  private:
   GpuContext() = default;
@@ -89,6 +95,7 @@ class GpuContext {
   VkPhysicalDeviceMemoryProperties memory_properties_{};
   std::unique_ptr<ValidationCounter> validation_;
   std::mutex queue_mutex_;
+  std::atomic<bool> device_lost_{false};
 };
 
 }  // namespace vifusion::gpu

@@ -269,6 +269,13 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
   if (result.imu_issue) {
     const NavState previous = estimator_->state();
     trackRgbd(result);
+    if (result.lost()) {
+      // Never restart from a pose nothing verified (dead reckoning from it would not meet the map again): RGB-D
+      // tracking carries on from the view tracked last until it holds; process() restarts the estimator there.
+      estimator_->stop();
+      restart_state_ = previous;
+      return;
+    }
     startEstimator(t_imu_ns, imu, &previous, result);
     return;
   }
@@ -294,7 +301,16 @@ void Slam::trackInertial(std::int64_t t_imu_ns, std::span<const ImuSample> imu, 
   // velocity, biases and gravity as prior means (as after refused IMU samples).
   TrackingResult tracking;
   SE3d T_W_place;
-  if (!relocalise(tracking, T_W_place)) return;
+  if (!relocalise(tracking, T_W_place)) {
+    // Neither dead reckoning nor a known place holds: RGB-D tracking takes over from the view tracked against
+    // last (the reference stays there), continuing this frame's motion, and process() restarts the estimator at
+    // the first pose it verifies.
+    restart_state_ = estimator_->state();
+    estimator_->stop();
+    rgbd_lost_frames_ = 1;
+    T_reference_guess_ = T_previous_current_;
+    return;
+  }
   const NavState previous = estimator_->state();
   result.T_W_C = T_W_place * tracking.T_ref_cur;
   result.tracking = TrackingState::kTracked;
@@ -433,7 +449,10 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
     }
   }
   result.tracking_ms = msSince(track_start);
-  if (estimator_ && !estimator_->initialised() && !relocalising_) startEstimator(t_imu_ns, imu, nullptr, result);
+  if (estimator_ && !estimator_->initialised() && !relocalising_ && !result.lost()) {
+    startEstimator(t_imu_ns, imu, restart_state_ ? &*restart_state_ : nullptr, result);
+    if (estimator_->initialised()) restart_state_.reset();
+  }
   // The next frame's reference is rendered here, except while RGB-D tracking is lost (trackRgbd).
   if (rgbd_lost_frames_ == 0) T_W_reference_ = result.T_W_C;
 

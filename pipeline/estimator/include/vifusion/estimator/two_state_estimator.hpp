@@ -92,6 +92,8 @@ class TwoStateEstimator {
   /// gravity direction with the options' σ.
   void initialise(std::int64_t t_ns, const NavState& x);
   bool initialised() const { return initialised_; }
+  /// Stops: initialised() is false until the next initialise() (the caller has no verified pose to restart from).
+  void stop() { initialised_ = false; }
 
   /// Tracks the frame at t1_ns: preintegrates `samples` (must cover [t(), t1_ns] on the IMU clock),
   /// predicts x1, solves, marginalises x0. `dense` may be nullptr (no vision for this frame). On an IMU

@@ -303,8 +303,11 @@ class Slam {
   double place_depth_gate_m_ = 0.0;          ///< the ICP's association gate, for place_agreement_
   bool mapping_ = true;                      ///< SlamOptions::mapping
   std::optional<NavState> loaded_state_;     ///< the loaded map's estimator state: gravity and biases to start from
-  RelocalisationOptions relocalisation_;     ///< SlamOptions::relocalisation (the map search's settings)
-  double min_depth_m_ = 0.0;                 ///< the depth gate's near end [m]: the search's camera clearance
+  /// The estimator's state when refused IMU samples stopped it while RGB-D tracking was lost: velocity, biases and
+  /// gravity to restart from once RGB-D tracking holds again.
+  std::optional<NavState> restart_state_;
+  RelocalisationOptions relocalisation_;  ///< SlamOptions::relocalisation (the map search's settings)
+  double min_depth_m_ = 0.0;              ///< the depth gate's near end [m]: the search's camera clearance
   std::unique_ptr<loop::GlobalPlaceSearch> map_search_;  ///< after loadMap in the inertial modes
   std::vector<Eigen::Vector3d> map_search_points_;       ///< a frame's block points, sized at loadMap
   /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last

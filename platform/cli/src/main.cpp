@@ -58,6 +58,10 @@ int main(int argc, char** argv) {
   run->add_flag("--strict", run_options.strict,
                 "Stop at the first recorded frame or IMU row that cannot be read (outputs written, exit 3) instead of "
                 "skipping and counting it");
+  run->add_option(
+      "--inject", run_options.inject,
+      "Replay a recorded source with faults, e.g. imu-gap@40,frame-duplicate@60,clock-jump@80:+1,"
+      "device-lost@120 (NAME@FRAME[:VALUE]; README \"Bad input and faults\" lists them and their outcomes)");
   run->add_flag("!--no-photometric", run_options.photometric, "Track with ICP only");
   run->add_flag("!--no-loop-closure", run_options.loop_closure, "Open-loop odometry: no map deformation");
   run->add_flag("!--no-relocalisation", run_options.relocalisation,

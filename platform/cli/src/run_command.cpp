@@ -169,8 +169,9 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
   RunSource source;
-  if (!openRunSource({options.source, options.calibration, options.out, inertial}, "vifusion run", std::move(backend),
-                     source)) {
+  SourceRequest request{options.source, options.calibration, options.out, inertial, 0, {}};
+  request.faults = datasets::parseFaultPlan(options.inject, "--inject");
+  if (!openRunSource(request, "vifusion run", std::move(backend), source)) {
     return config::kExitSource;
   }
   const std::unique_ptr<datasets::DatasetReader>& reader = source.reader;
@@ -210,8 +211,10 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   ProgressBar progress("tracking", static_cast<int64_t>(reserved));
   const auto start = std::chrono::steady_clock::now();
   SkippedFrames skipped;
-  std::size_t consumed = 0;              ///< frames taken from the source, the skipped ones included
-  std::optional<std::string> bad_input;  ///< --strict: why the run stopped early
+  std::size_t consumed = 0;                     ///< frames taken from the source, the skipped ones included
+  std::optional<std::string> bad_input;         ///< --strict: why the run stopped early
+  std::optional<std::string> pipeline_failure;  ///< why the GPU pipeline stopped the run (a lost device)
+  const std::optional<std::size_t> device_lost_at = request.faults.deviceLostFrame();
   // IMU rows the reader left out (the estimator sees each hole as a gap): logged once each; --strict stops
   // before the first frame.
   const std::span<const std::string> skipped_imu = reader->skippedImuRows();
@@ -236,7 +239,15 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
     ++consumed;
     const std::span<const ImuSample> imu =
         inertial ? source.imu->samplesThrough(frame.t_ns) : std::span<const ImuSample>();
-    const slam::FrameResult result = pipeline.process(frame, imu);
+    if (device_lost_at && frame.index >= static_cast<std::int64_t>(*device_lost_at)) context->simulateDeviceLoss();
+    slam::FrameResult result;
+    try {
+      result = pipeline.process(frame, imu);
+    } catch (const Error& error) {
+      // The GPU is gone (or the pipeline broke): stop here, and still write everything the frames before it gave.
+      pipeline_failure = "frame " + std::to_string(frame.index) + ": " + error.what();
+      break;
+    }
     if (result.closure.outcome == slam::ClosureOutcome::kAccepted) {
       // The map moved: so does the trajectory that built it (frame i is the i-th pose kept).
       for (std::size_t i = 0; i < trajectory.size(); ++i) {
@@ -361,29 +372,43 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
     const eval::AteResult ate = eval::ate(ground_truth, located);
     report["ate_rmse_m"] = ate.rmse_m;
   }
-  // Stable surfels only (confidence ≥ the map's threshold), as ElasticFusion exports: the
-  // unstable ones are mostly single-view noise that tracking never renders.
-  std::vector<map::Surfel> map_surfels;
-  pipeline.exportMap(map_surfels);
-  const std::size_t map_points = map::writeSurfelPly(std::filesystem::path(options.out) / "map.ply", map_surfels,
-                                                     map::SurfelPlyOptions::stableOnly(slam_options.map));
-  report["map_ply_surfels"] = map_points;
-  if (!options.save_map.empty()) {
-    std::vector<mapfile::StampedPose> poses;
-    poses.reserve(located.size());
-    for (const eval::StampedPose& pose : located) poses.push_back({pose.t_ns, pose.T_world_body});
-    const slam::MapSaveReport saved =
-        slam::saveMap(pipeline, {slam_options.mode, &reader->calibration(), poses, last_state}, options.save_map);
-    report["map_file"] = {{"path", options.save_map},
-                          {"bytes", saved.bytes},
-                          {"surfels", saved.surfels},
-                          {"keyframes", saved.keyframes},
-                          {"save_ms", saved.elapsed_ms}};
+  if (!request.faults.empty()) report["injected_faults"] = request.faults.describe();
+  if (pipeline_failure) report["stopped_by_pipeline_failure"] = *pipeline_failure;
+  try {
+    // Stable surfels only (confidence ≥ the map's threshold), as ElasticFusion exports: the
+    // unstable ones are mostly single-view noise that tracking never renders.
+    std::vector<map::Surfel> map_surfels;
+    pipeline.exportMap(map_surfels);
+    const std::size_t map_points = map::writeSurfelPly(std::filesystem::path(options.out) / "map.ply", map_surfels,
+                                                       map::SurfelPlyOptions::stableOnly(slam_options.map));
+    report["map_ply_surfels"] = map_points;
+    if (!options.save_map.empty()) {
+      std::vector<mapfile::StampedPose> poses;
+      poses.reserve(located.size());
+      for (const eval::StampedPose& pose : located) poses.push_back({pose.t_ns, pose.T_world_body});
+      const slam::MapSaveReport saved =
+          slam::saveMap(pipeline, {slam_options.mode, &reader->calibration(), poses, last_state}, options.save_map);
+      report["map_file"] = {{"path", options.save_map},
+                            {"bytes", saved.bytes},
+                            {"surfels", saved.surfels},
+                            {"keyframes", saved.keyframes},
+                            {"save_ms", saved.elapsed_ms}};
+    }
+  } catch (const Error& error) {
+    if (!pipeline_failure) throw;
+    // The map lived on the device that failed: map.ply and the map file keep their previous versions.
+    report["map_not_written"] = error.what();
   }
 
   const std::filesystem::path report_path = std::filesystem::path(options.out) / "report.json";
   writeFileAtomically(report_path, report.dump(2) + "\n");
   std::printf("%s\n", report.dump().c_str());
+  if (pipeline_failure) {
+    std::fprintf(stderr, "vifusion run: the GPU pipeline failed at %s; the outputs hold the %d frames before it%s\n",
+                 pipeline_failure->c_str(), frames,
+                 report.contains("map_not_written") ? " (the map could not be read back: not written)" : "");
+    return config::kExitGpu;
+  }
   if (bad_input) {
     std::fprintf(stderr,
                  "vifusion run: --strict: stopped at the first bad input, %s; the outputs hold the %d frames "

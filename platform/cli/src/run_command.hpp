@@ -35,12 +35,16 @@ struct RunOptions {
   /// A recorded frame or IMU row that cannot be read stops the run (outputs written, exit 3) instead of being
   /// skipped.
   bool strict = false;
+  /// Faults injected into a recorded source (datasets/fault_injection.hpp's NAME@FRAME[:VALUE] list; empty: none).
+  std::string inject;
 };
 
 /// Returns the exit code: 0, or 3 when the live camera cannot be opened (the message on stderr names what is
-/// missing) or, with `strict`, after a recorded frame could not be read (the outputs hold the frames before it).
+/// missing) or, with `strict`, after a recorded frame could not be read (the outputs hold the frames before it), or 4
+/// when the GPU pipeline fails mid-run (the device lost): trajectory, states, frames and report hold every frame
+/// before it, and the map too where it can still be read back (report.json `stopped_by_pipeline_failure`).
 /// Without `strict` such frames and rows are skipped and counted (report.json `skipped_frames`,
-/// `skipped_imu_rows`). `backend` reaches the camera
+/// `skipped_imu_rows`), as is a frame whose time does not increase. `backend` reaches the camera
 /// for `zr300` sources; null: the real devices (tests pass a scripted camera). @throws vifusion::Error for every other
 /// failure (main() reports it, exit code 2).
 int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> backend);

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "sim_command.hpp"
+#include "vifusion/core/error.hpp"
 #include "vifusion/datasets/recalibrated_reader.hpp"
 #include "vifusion/recording/open_recorded.hpp"
 #ifdef VIFUSION_WITH_ZR300
@@ -52,6 +53,7 @@ bool openRunSource(const SourceRequest& request, const char* command, std::uniqu
                    RunSource& source) {
 #ifdef VIFUSION_WITH_ZR300
   if (const std::optional<discovery::Zr300SourceSpec> spec = discovery::parseZr300SourceSpec(request.spec)) {
+    if (!request.faults.empty()) throw Error("--inject: faults are replayed into recordings, not the live camera");
     zr300::Zr300Options live;
     live.imu = request.inertial;  // rgbd mode leaves the motion module alone: frames take their kernel times
     live.motion.raw_transfer_ring_capacity = request.raw_transfers;
@@ -81,6 +83,9 @@ bool openRunSource(const SourceRequest& request, const char* command, std::uniqu
   if (!request.calibration.empty()) {
     source.reader = datasets::withCalibrationFile(std::move(source.reader), request.calibration);
   }
+  if (!request.faults.empty()) source.reader = datasets::withFaults(std::move(source.reader), request.faults);
+  // A frame or IMU sample whose time does not increase is passed over and counted like an unreadable one.
+  source.reader = datasets::withIncreasingTimes(std::move(source.reader));
   if (!source.reader->imu().empty()) {
     source.recorded_imu = std::make_unique<RecordedImuFeed>(source.reader->imu());
     source.imu = source.recorded_imu.get();

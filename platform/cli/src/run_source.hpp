@@ -10,6 +10,7 @@
 
 #include "vifusion/core/imu_feed.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
+#include "vifusion/datasets/fault_injection.hpp"
 
 namespace vifusion::zr300 {
 class Zr300Backend;
@@ -30,6 +31,8 @@ struct SourceRequest {
   bool inertial = false;  ///< the IMU is needed (zr300: the motion module is opened only then)
   /// zr300: keep the motion module's transfers as received (Zr300Source::rawTransferRing()), this many at most.
   std::size_t raw_transfers = 0;
+  /// Faults to replay a recorded source with (datasets::withFaults); the live camera takes none.
+  datasets::FaultPlan faults;
 };
 
 /// A source's frames and their IMU samples: a recording hands every frame its whole IMU stream, the live

@@ -88,8 +88,8 @@ synccheck::SyncInput fromRecording(const std::string& path) {
 bool fromLive(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr300Backend> backend,
               std::unique_ptr<gpio_sync::GpioLineIo> line_io, synccheck::SyncInput& input) {
   RunSource source;
-  if (!openRunSource({options.source, options.calibration, "", true, kRawTransferRing}, kCommand, std::move(backend),
-                     source))
+  if (!openRunSource({options.source, options.calibration, "", true, kRawTransferRing, {}}, kCommand,
+                     std::move(backend), source))
     return false;
   if (!source.reader->live())
     throw Error("source '" + options.source + "': synccheck takes zr300[:SERIAL] or rec:FILE");

@@ -3,8 +3,10 @@ directory complete: the previous version or the new one, never partial (core/ato
 service starts again on what it left and publishes within 10 s.
 
 usage: crash_safety_test.py BIN_DIR SIM_DIR WORK_DIR DDS_CONFIG CASE
-CASE: run | service
-The kill moments are drawn from a fixed seed over the whole of a run, the final writes included.
+CASE: run | service | device_lost
+The kill moments are drawn from a fixed seed over the whole of a run, the final writes included. device_lost (item 3):
+the GPU lost mid-run (`inject: device-lost@60`) stops vifusiond with exit 4 (systemd's Restart=on-failure restarts
+it), the 60 poses before it and the last periodic map save written; the restarted service loads that map and publishes.
 """
 import json
 import os
@@ -150,4 +152,43 @@ def service_case():
           f"{published_s:.1f} s", flush=True)
 
 
-main({"run": run_case, "service": service_case}, CASE)
+def device_lost_case():
+    out = os.path.join(WORK, "device_lost")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+    map_file = os.path.join(out, "map.vifmap")
+    lost_at = 60  # 2 s in, replayed as fast as it goes (every frame in order): a few periodic saves before it
+    domain, partition = dds_domain_and_partition("device-lost-test")
+    dds_args = ["--dds.config", DDS_CONFIG, "--dds.domain", str(domain), "--dds.partition", partition]
+    command = [f"{BIN}/vifusiond", "--source", f"dataset:{SIM}", "--mode", "rgbdi", "--out", out, "--realtime", "false",
+               "--map_file", map_file, "--map_file_required", "false", "--map_save_period_s", "0.5", *dds_args]
+    lost = subprocess.run([*command, "--inject", f"device-lost@{lost_at}"], capture_output=True, text=True, timeout=120)
+    log = lost.stderr
+    if lost.returncode != 4:
+        fail(f"exit {lost.returncode} after the device was lost, expected 4 (kExitGpu): {log[-2000:]}")
+    if "VK_ERROR_DEVICE_LOST" not in log or "map not saved on stop" not in log:
+        fail(f"the log does not say what was lost and kept: {log[-2000:]}")
+    with open(os.path.join(out, "trajectory.txt")) as f:
+        poses = [line for line in f if not line.startswith("#")]
+    if len(poses) != lost_at:
+        fail(f"trajectory.txt holds {len(poses)} poses, expected the {lost_at} before the loss")
+    check_directory(out, {"trajectory.txt", "states.csv", "map.vifmap"}, "the lost device")
+    if not os.path.exists(map_file):
+        fail("no periodic map save before the loss")
+    # Restarted (as systemd does after exit 4), without the fault: it loads what was saved and publishes.
+    restart = [*command[:command.index("--map_file_required") + 1], "true",
+               *command[command.index("--map_file_required") + 2:]]
+    started = time.monotonic()
+    daemon = start(restart, stderr=subprocess.DEVNULL)
+    echo = Echo(f"{BIN}/vifusion", "rt/vifusion/status", 1, PUBLISH_AGAIN_S,
+                ["--dds-config", DDS_CONFIG, "--domain", str(domain), "--partition", partition])
+    if echo.wait(PUBLISH_AGAIN_S + 5) != 0 or not echo.lines:
+        fail(f"after the lost device the service did not publish again within {PUBLISH_AGAIN_S} s")
+    published_s = echo.lines[0][0] - started
+    if stop(daemon) != 0:
+        fail(f"the restarted service stopped with {daemon.returncode}")
+    print(f"vifusiond: device lost at frame {lost_at}: exit 4, {len(poses)} poses and the map file kept; restarted on "
+          f"it and published after {published_s:.1f} s", flush=True)
+
+
+main({"run": run_case, "service": service_case, "device_lost": device_lost_case}, CASE)

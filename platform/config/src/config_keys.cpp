@@ -20,6 +20,10 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
        "The rig's calibration.yaml (Kalibr cam0/imu0 keys). zr300: its image size picks the stream; a recorded "
        "source is read with it in place of its own",
        &c.calibration},
+      {"inject",
+       "Replay a recorded source with faults, NAME@FRAME[:VALUE],... e.g. device-lost@300 (tests; README \"Bad input "
+       "and faults\")",
+       &c.inject},
       {"out", "State directory: trajectory.txt, map.ply (written atomically), generated sim data", &c.out},
       {"mode", "rgbd, rgbdi (camera + IMU, needs a source with IMU data) or gyro (camera + gyroscope)", &c.mode},
       {"max_frames", "Stop cleanly after this many frames (0: whole source)", &c.max_frames},

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/datasets/fault_injection.hpp"
 #include "vifusion/datasets/recalibrated_reader.hpp"
 #include "vifusion/recording/open_recorded.hpp"
 #include "vifusion/service/log.hpp"
@@ -99,6 +100,10 @@ OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
   if (!config.calibration.empty()) {  // the rig's calibration in place of the recording's own
     opened.reader = datasets::withCalibrationFile(std::move(opened.reader), config.calibration);
   }
+  const datasets::FaultPlan faults = datasets::parseFaultPlan(config.inject, "inject");
+  if (!faults.empty()) opened.reader = datasets::withFaults(std::move(opened.reader), faults);
+  // A frame or IMU sample whose time does not increase is passed over and counted like an unreadable one.
+  opened.reader = datasets::withIncreasingTimes(std::move(opened.reader));
   return opened;
 }
 

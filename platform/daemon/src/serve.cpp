@@ -17,6 +17,7 @@
 #include "vifusion/daemon/recording_session.hpp"
 #include "vifusion/daemon/slam_worker.hpp"
 #include "vifusion/daemon/sync_line_source.hpp"
+#include "vifusion/datasets/fault_injection.hpp"
 #include "vifusion/dds/reader.hpp"
 #include "vifusion/service/log.hpp"
 #include "vifusion/service/signal_fd.hpp"
@@ -130,6 +131,14 @@ int serve(const config::DaemonConfig& config) {
   slam_options.map.capacity = static_cast<std::uint32_t>(config.map_capacity);  // validate() bounded it
   slam_options.mapping = config.mapping;
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
+  std::optional<std::size_t> lose_device_at;  // `inject`'s device-lost@K
+  try {
+    const datasets::FaultPlan faults = datasets::parseFaultPlan(config.inject, "inject");
+    lose_device_at = faults.deviceLostFrame();
+  } catch (const std::exception& error) {
+    logLine(LogLevel::Error, "%s", error.what());
+    return config::kExitConfig;
+  }
   OpenedSource opened;
   try {
 #ifdef VIFUSION_WITH_ZR300
@@ -231,6 +240,8 @@ int serve(const config::DaemonConfig& config) {
   worker_options.map_save_period_ns = secondsToNs(config.map_save_period_s);
   worker_options.mode = slam_options.mode;
   worker_options.calibration = &source->calibration();
+  worker_options.gpu = context.get();
+  worker_options.lose_device_at_frame = lose_device_at;
   SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
 
   notifier.status("waiting for the first frame");

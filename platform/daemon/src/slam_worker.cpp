@@ -4,6 +4,7 @@
 
 #include "vifusion/config/daemon_config.hpp"
 #include "vifusion/core/time.hpp"
+#include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/map/surfel_ply.hpp"
 #include "vifusion/service/log.hpp"
 
@@ -45,6 +46,10 @@ void SlamWorker::run() {
       const std::span<const ImuSample> imu =
           options_.imu != nullptr ? options_.imu->samplesThrough(slot.frame.t_ns) : std::span<const ImuSample>();
       if (options_.recorder != nullptr) recordImu(imu, slot.frame.t_ns);
+      if (options_.lose_device_at_frame && options_.gpu != nullptr &&
+          slot.frame.index >= static_cast<std::int64_t>(*options_.lose_device_at_frame)) {
+        options_.gpu->simulateDeviceLoss();
+      }
       const slam::FrameResult result = pipeline_.process(slot.frame, imu);
       if (result.closure.outcome == slam::ClosureOutcome::kAccepted) {
         // The map moved: so does the trajectory that built it (the i-th pose kept is the frame clock's
@@ -185,17 +190,32 @@ void SlamWorker::writeOutputs() {
     for (const mapfile::StampedPose& pose : trajectory_) poses.push_back({pose.t_ns, pose.T_W_C});
     eval::writeTum(trajectory_path, poses);  // atomically, as every output (core/atomic_file.hpp)
     if (options_.imu != nullptr) eval::writeEstimatedStates(options_.out_dir / "states.csv", states_);
-    std::vector<map::Surfel> surfels;
-    pipeline_.exportMap(surfels);
-    const std::size_t written =
-        map::writeSurfelPly(options_.out_dir / "map.ply", surfels, map::SurfelPlyOptions::stableOnly(map_options_));
     const std::string states_text =
-        options_.imu != nullptr ? "states.csv (" + std::to_string(states_.size()) + " states), " : "";
-    service::logLine(service::LogLevel::Info, "wrote %s (%zu poses), %smap.ply (%zu surfels)", trajectory_path.c_str(),
-                     trajectory_.size(), states_text.c_str(), written);
+        options_.imu != nullptr ? ", states.csv (" + std::to_string(states_.size()) + " states)" : "";
+    service::logLine(service::LogLevel::Info, "wrote %s (%zu poses)%s", trajectory_path.c_str(), trajectory_.size(),
+                     states_text.c_str());
   } catch (const std::exception& error) {
     service::logLine(service::LogLevel::Error, "cannot write the outputs: %s", error.what());
     state_.fail(config::kExitOutput);
+  }
+  std::vector<map::Surfel> surfels;
+  bool exported = false;
+  try {
+    pipeline_.exportMap(surfels);
+    exported = true;
+  } catch (const std::exception& error) {  // the device was lost: map.ply keeps its previous version
+    service::logLine(service::LogLevel::Error, "map.ply not written: the map cannot be read back: %s", error.what());
+    state_.fail(config::kExitGpu);
+  }
+  if (exported) {
+    try {
+      const std::size_t written =
+          map::writeSurfelPly(options_.out_dir / "map.ply", surfels, map::SurfelPlyOptions::stableOnly(map_options_));
+      service::logLine(service::LogLevel::Info, "wrote map.ply (%zu surfels)", written);
+    } catch (const std::exception& error) {
+      service::logLine(service::LogLevel::Error, "cannot write map.ply: %s", error.what());
+      state_.fail(config::kExitOutput);
+    }
   }
   if (options_.map_saver != nullptr && !saveMapOnStop()) state_.fail(config::kExitOutput);
 }

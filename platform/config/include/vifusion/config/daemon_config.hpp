@@ -14,8 +14,8 @@ namespace vifusion::config {
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitConfig = 2;  ///< bad configuration or command line
 inline constexpr int kExitSource = 3;  ///< the source cannot be opened or read, or lacks the IMU data the mode needs
-inline constexpr int kExitGpu = 4;     ///< no usable Vulkan device, or the pipeline cannot be built
-inline constexpr int kExitDds = 5;     ///< the DDS participant, writers or readers cannot be created
+inline constexpr int kExitGpu = 4;  ///< no usable Vulkan device, the pipeline cannot be built, or the device was lost
+inline constexpr int kExitDds = 5;  ///< the DDS participant, writers or readers cannot be created
 inline constexpr int kExitOutput = 6;  ///< trajectory.txt, map.ply or the map file cannot be written
 inline constexpr int kExitLed = 7;     ///< vifusion-health: the status LED's GPIO line is unavailable
 inline constexpr int kExitMap = 8;     ///< vifusiond: map_file cannot be loaded and map_file_required is true
@@ -58,6 +58,8 @@ struct DaemonConfig {
   std::string source =
       "sim:living_room_0";  ///< sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, zr300[:SERIAL]
   std::string calibration;  ///< zr300 source: the rig's calibration.yaml (drivers/zr300 open_zr300.hpp)
+  /// Faults replayed into a recorded source, NAME@FRAME[:VALUE],… (datasets/fault_injection.hpp); "" = none.
+  std::string inject;
   std::string out = "/var/lib/vifusion";  ///< state directory: trajectory.txt, map.ply, generated sim data
   std::string mode = "rgbd";              ///< rgbd, rgbdi (camera + IMU) or gyro (camera + gyroscope)
   std::int64_t max_frames = 0;            ///< stop cleanly after this many processed frames; 0: the whole source

@@ -30,6 +30,10 @@
 #include "vifusion/recording/recorder.hpp"
 #include "vifusion/slam/slam.hpp"
 
+namespace vifusion::gpu {
+class GpuContext;
+}  // namespace vifusion::gpu
+
 namespace vifusion::daemon {
 
 struct SlamWorkerOptions {
@@ -52,6 +56,9 @@ struct SlamWorkerOptions {
   std::int64_t map_save_period_ns = 0;          ///< periodic save [ns]; 0: on stop and on request only
   slam::SlamMode mode = slam::SlamMode::kRgbd;  ///< the pipeline's, for the map file
   const RigCalibration* calibration = nullptr;  ///< the pipeline's rig (borrowed), for the map file
+  gpu::GpuContext* gpu = nullptr;               ///< the pipeline's device (borrowed), for fault injection
+  /// Config `inject`'s device-lost@K: the device behaves as lost from recorded frame K on (gpu::GpuContext).
+  std::optional<std::size_t> lose_device_at_frame;
 };
 
 /// Trajectory capacity reserved for a live source, which cannot say how many frames will come: one hour at

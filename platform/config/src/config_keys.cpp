@@ -20,10 +20,6 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
        "The rig's calibration.yaml (Kalibr cam0/imu0 keys). zr300: its image size picks the stream; a recorded "
        "source is read with it in place of its own",
        &c.calibration},
-      {"inject",
-       "Replay a recorded source with faults, NAME@FRAME[:VALUE],... e.g. device-lost@300 (tests; README \"Bad input "
-       "and faults\")",
-       &c.inject},
       {"out", "State directory: trajectory.txt, map.ply (written atomically), generated sim data", &c.out},
       {"mode", "rgbd, rgbdi (camera + IMU, needs a source with IMU data) or gyro (camera + gyroscope)", &c.mode},
       {"max_frames", "Stop cleanly after this many frames (0: whole source)", &c.max_frames},
@@ -43,6 +39,13 @@ std::vector<ConfigKey> configKeys(DaemonConfig& c) {
       {"record", "Record the source while mapping (frames, IMU, sync edges; MCAP, ROS 2 messages)", &c.record},
       {"record_dir", "Directory of the recordings (\"\": <out>/recordings); one vifusiond-TIME.mcap per start",
        &c.record_dir},
+      {"inject",
+       "Replay a recorded source with faults, NAME@FRAME[:VALUE],... e.g. device-lost@300 (tests; README \"Bad input "
+       "and faults\")",
+       &c.inject},
+      {"replay_loops",
+       "Replay a recorded source this many times end to end, each pass later by its span (soak runs; 1: once)",
+       &c.replay_loops},
       {"dds.domain", "DDS domain id (0..232)", &c.dds.domain},
       {"dds.config", "Cyclone DDS XML: file, file:// URI or inline", &c.dds.config},
       {"dds.partition", "DDS partition (\"\": default, as ROS 2)", &c.dds.partition},

@@ -25,6 +25,8 @@ void DaemonConfig::validate() const {
   require(sync.line >= 0 && sync.line <= 65535,
           "key 'sync.line' = " + std::to_string(sync.line) + " is outside [0, 65535]");
   require(max_frames >= 0, "key 'max_frames' = " + std::to_string(max_frames) + " must be >= 0 (0: the whole source)");
+  require(replay_loops >= 1 && replay_loops <= kMaxReplayLoops,
+          "key 'replay_loops' = " + std::to_string(replay_loops) + " must be in 1.." + std::to_string(kMaxReplayLoops));
   require(frame_ring >= 1 && frame_ring <= 64,
           "key 'frame_ring' = " + std::to_string(frame_ring) + " must be in 1..64");
   require(map_capacity >= (1 << 16) && map_capacity <= (1 << 26),

@@ -9,6 +9,7 @@
 
 #include "vifusion/core/error.hpp"
 #include "vifusion/datasets/fault_injection.hpp"
+#include "vifusion/datasets/looped_replay.hpp"
 #include "vifusion/datasets/recalibrated_reader.hpp"
 #include "vifusion/recording/open_recorded.hpp"
 #include "vifusion/service/log.hpp"
@@ -89,17 +90,22 @@ OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
     throw Error("this vifusiond was built without the live drivers (VIFUSION_WITH_LIVE_DRIVERS=OFF)");
   }
 #endif
-  if (!source.starts_with("sim:")) {
-    opened.reader = recording::openRecorded(source);
-  } else {
+  std::string recorded = source;
+  if (source.starts_with("sim:")) {
     const std::string preset = source.substr(4);
     const std::filesystem::path dir = std::filesystem::path(config.out) / ("sim_" + preset);
     if (!std::filesystem::exists(dir / "rgb.txt")) generateSim(preset, dir);
-    opened.reader = datasets::openDataset("dataset:" + dir.string());
+    recorded = "dataset:" + dir.string();
   }
-  if (!config.calibration.empty()) {  // the rig's calibration in place of the recording's own
-    opened.reader = datasets::withCalibrationFile(std::move(opened.reader), config.calibration);
-  }
+  const datasets::RecordingOpener open = [calibration = config.calibration, recorded] {
+    std::unique_ptr<datasets::DatasetReader> reader = recording::openRecorded(recorded);
+    if (!calibration.empty()) {  // the rig's calibration in place of the recording's own
+      reader = datasets::withCalibrationFile(std::move(reader), calibration);
+    }
+    return reader;
+  };
+  opened.reader =
+      config.replay_loops > 1 ? datasets::loopedReplay(open, static_cast<std::size_t>(config.replay_loops)) : open();
   const datasets::FaultPlan faults = datasets::parseFaultPlan(config.inject, "inject");
   if (!faults.empty()) opened.reader = datasets::withFaults(std::move(opened.reader), faults);
   // A frame or IMU sample whose time does not increase is passed over and counted like an unreadable one.

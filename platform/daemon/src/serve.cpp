@@ -184,7 +184,8 @@ int serve(const config::DaemonConfig& config) {
     logLine(LogLevel::Error, "GPU pipeline: %s", error.what());
     return config::kExitGpu;
   }
-  logLine(LogLevel::Info, "GPU: %s", context->features().device_name.c_str());
+  logLine(LogLevel::Info, "GPU: %s, arena %llu bytes (fixed from here on)", context->features().device_name.c_str(),
+          static_cast<unsigned long long>(pipeline->arenaBytes()));
   if (!config.map_file.empty()) {
     notifier.status("loading the map file");
     if (!loadMapFile(config, *pipeline)) return config::kExitMap;
@@ -353,9 +354,11 @@ int serve(const config::DaemonConfig& config) {
   publisher_thread.join();
   if (recorder) closeRecording(*recorder);
   const int code = state.exit_code.load();
-  logLine(code == 0 ? LogLevel::Info : LogLevel::Error, "exiting with code %d after %llu frames (%llu lost)", code,
+  logLine(code == 0 ? LogLevel::Info : LogLevel::Error,
+          "exiting with code %d after %llu frames (%llu lost); GPU arena %llu bytes", code,
           static_cast<unsigned long long>(state.frames_processed.load()),
-          static_cast<unsigned long long>(state.lost_frames.load()));
+          static_cast<unsigned long long>(state.lost_frames.load()),
+          static_cast<unsigned long long>(pipeline->arenaBytes()));
   return code;
 }
 

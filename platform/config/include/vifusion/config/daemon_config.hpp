@@ -11,6 +11,9 @@
 namespace vifusion::config {
 
 /// Exit codes of vifusiond and vifusion-health (README "Running the service").
+/// Most passes `replay_loops` may ask for: a minute's recording replayed for about two years.
+inline constexpr std::int64_t kMaxReplayLoops = 1'000'000;
+
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitConfig = 2;  ///< bad configuration or command line
 inline constexpr int kExitSource = 3;  ///< the source cannot be opened or read, or lacks the IMU data the mode needs
@@ -58,8 +61,6 @@ struct DaemonConfig {
   std::string source =
       "sim:living_room_0";  ///< sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, zr300[:SERIAL]
   std::string calibration;  ///< zr300 source: the rig's calibration.yaml (drivers/zr300 open_zr300.hpp)
-  /// Faults replayed into a recorded source, NAME@FRAME[:VALUE],… (datasets/fault_injection.hpp); "" = none.
-  std::string inject;
   std::string out = "/var/lib/vifusion";  ///< state directory: trajectory.txt, map.ply, generated sim data
   std::string mode = "rgbd";              ///< rgbd, rgbdi (camera + IMU) or gyro (camera + gyroscope)
   std::int64_t max_frames = 0;            ///< stop cleanly after this many processed frames; 0: the whole source
@@ -89,6 +90,11 @@ struct DaemonConfig {
   /// Record the source while mapping (drivers/recording: MCAP of ROS 2 messages) into record_dir.
   bool record = false;
   std::string record_dir;  ///< where recordings go ("" = <out>/recordings), one file per start
+  /// Faults replayed into a recorded source, NAME@FRAME[:VALUE],… (datasets/fault_injection.hpp); "" = none.
+  std::string inject;
+  /// A recorded source replayed this many times end to end as one long source (datasets/looped_replay.hpp; soak
+  /// runs), [1, kMaxReplayLoops]; 1: once.
+  std::int64_t replay_loops = 1;
   DdsConfig dds;
   HealthConfig health;
   SyncConfig sync;

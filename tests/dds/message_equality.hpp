@@ -177,6 +177,7 @@ inline void expectSame(const msg::Status& a, const msg::Status& b, const std::st
   EXPECT_EQ(a.relocalisations, b.relocalisations) << path << ".relocalisations";
   EXPECT_EQ(a.frames_skipped, b.frames_skipped) << path << ".frames_skipped";
   EXPECT_EQ(a.frames_unreadable, b.frames_unreadable) << path << ".frames_unreadable";
+  EXPECT_EQ(a.imu_samples_unreadable, b.imu_samples_unreadable) << path << ".imu_samples_unreadable";
   EXPECT_EQ(a.source_present, b.source_present) << path << ".source_present";
   EXPECT_EQ(a.source_reopens, b.source_reopens) << path << ".source_reopens";
   EXPECT_EQ(a.clock_offset_ns, b.clock_offset_ns) << path << ".clock_offset_ns";

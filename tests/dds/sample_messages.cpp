@@ -102,6 +102,7 @@ SampleMessages::SampleMessages() {
   status.relocalisations = 2;
   status.frames_skipped = 4'321;
   status.frames_unreadable = 3;
+  status.imu_samples_unreadable = 7;
   status.source_present = true;
   status.source_reopens = 1;
   status.clock_offset_ns = -1'234'567'890'123;

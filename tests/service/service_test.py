@@ -343,7 +343,8 @@ def rgbdi():
 def imu_gap():
     """A 0.5 s hole in the IMU stream (a driver that stalled): the frames in it are tracked RGB-D only,
     counted in the status, logged at most once per 5 s, flagged by vifusion-health's IMU rule — and the
-    daemon runs to the end of the source with exit 0."""
+    daemon runs to the end of the source with exit 0. Two injected bad samples (NaN, a duplicate) are left out,
+    logged with their reasons and counted as imu_samples_unreadable."""
     data = f"{WORK}/imu_gap_data"
     shutil.rmtree(data, ignore_errors=True)
     os.makedirs(data)
@@ -367,8 +368,9 @@ def imu_gap():
     diagnostics = echo("rt/diagnostics", 0, 60)
     status = echo("rt/vifusion/status", 0, 60)
     time.sleep(1.0)  # the readers and the monitor discover each other before the short run starts
+    # Two samples the guard leaves out as well (issue 22): counted in the status, logged at start.
     service = start([f"{BIN}/vifusiond", "--source", f"dataset:{data}", "--out", f"{WORK}/imu_gap", "--mode", "rgbdi",
-                     "--realtime", "false", "--log_file", log, *DDS_ARGS])
+                     "--realtime", "false", "--log_file", log, "--inject", "imu-nan@10,imu-duplicate@60", *DDS_ARGS])
     code = service.wait(120)
     time.sleep(1.0)  # the monitor judges the last status
     for reader in (diagnostics, status):
@@ -385,6 +387,12 @@ def imu_gap():
         lines = [line.rstrip() for line in f if "IMU not used" in line]
     print(f"status at the end: {last['frames_processed']} frames, {last['imu_issue_frames']} without IMU; "
           f"{len(lines)} log line(s): {lines[:2]}", flush=True)
+    if last["imu_samples_unreadable"] != 2:
+        fail(f"status imu_samples_unreadable {last['imu_samples_unreadable']}, expected the 2 injected")
+    with open(log) as f:
+        left_out = [line.rstrip() for line in f if "IMU row unreadable, left out" in line]
+    if len(left_out) != 2 or "not finite" not in left_out[0] or "time does not increase" not in left_out[1]:
+        fail(f"the left-out samples are not logged with their reasons: {left_out}")
     if last["imu_issue_frames"] < 5:
         fail(f"only {last['imu_issue_frames']} frames counted without IMU across a 0.5 s gap (15 frames)")
     if last["frames_processed"] != sum(1 for line in open(f"{SIM}/rgb.txt") if not line.startswith("#")):

@@ -113,6 +113,11 @@ int runStatus(const StatusCommandOptions& options) {
                 static_cast<unsigned long long>(s.relocalisations), s.camera_ring.fill, s.camera_ring.capacity,
                 static_cast<unsigned long long>(s.camera_ring.overruns), static_cast<unsigned long long>(s.heartbeat));
             status_text = line;
+            if (s.imu_samples_unreadable > 0) {
+              std::snprintf(line, sizeof(line), "vifusiond: %llu recorded IMU samples unreadable, left out (logged)\n",
+                            static_cast<unsigned long long>(s.imu_samples_unreadable));
+              status_text += line;
+            }
             if (!s.source_present) status_text += "vifusiond: camera absent (unplugged): the map is kept\n";
             if (s.clock_offset_ns != 0 || s.source_reopens > 0) {
               std::snprintf(line, sizeof(line),

@@ -154,6 +154,7 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.frames_processed = frames;
   status.frames_skipped = state_.frames_skipped.load();
   status.frames_unreadable = state_.frames_unreadable.load();
+  status.imu_samples_unreadable = state_.imu_samples_unreadable.load();
   status.lost_frames = state_.lost_frames.load();
   status.imu_issue_frames = state_.imu_issue_frames.load();
   status.imu_carried_frames = state_.imu_carried_frames.load();

@@ -198,6 +198,7 @@ int serve(const config::DaemonConfig& config) {
   prototype.frame.rgb.resize(camera.width, camera.height);
   constexpr std::size_t kOutputRing = 64;
   SharedState state(static_cast<std::size_t>(config.frame_ring), prototype, kOutputRing);
+  state.imu_samples_unreadable = source->skippedImuRows().size();
 
   std::unique_ptr<dds::Participant> participant;
   std::unique_ptr<Publisher> publisher;

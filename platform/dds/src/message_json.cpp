@@ -263,6 +263,7 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "relocalisations", message.relocalisations);
   field(json, "frames_skipped", message.frames_skipped);
   field(json, "frames_unreadable", message.frames_unreadable);
+  field(json, "imu_samples_unreadable", message.imu_samples_unreadable);
   field(json, "source_present", message.source_present);
   field(json, "source_reopens", message.source_reopens);
   field(json, "clock_offset_ns", message.clock_offset_ns);

@@ -102,6 +102,8 @@ struct SharedState {
   std::atomic<std::uint64_t> frames_skipped{0};
   /// Recorded frames the reader could not read (a corrupt image, a damaged message) and passed over
   std::atomic<std::uint64_t> frames_unreadable{0};
+  /// Recorded IMU rows or messages the reader left out (DatasetReader::skippedImuRows), set at start
+  std::atomic<std::uint64_t> imu_samples_unreadable{0};
   // The live camera, as the main thread last read it from the source (recorded sources: present, zeros).
   std::atomic<bool> source_present{true};        ///< false while the camera is unplugged
   std::atomic<std::uint64_t> source_reopens{0};  ///< re-opens after an unplug

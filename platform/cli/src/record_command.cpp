@@ -68,7 +68,7 @@ int runRecord(const RecordOptions& options, std::unique_ptr<zr300::Zr300Backend>
   const bool inertial = options.mode != "rgbd";
   const std::filesystem::path out_dir = std::filesystem::absolute(options.out).parent_path();
   RunSource source;
-  if (!openRunSource({options.source, options.calibration, out_dir.string(), inertial, kRawTransferRing, {}},
+  if (!openRunSource({options.source, options.calibration, out_dir.string(), inertial, kRawTransferRing, {}, false},
                      "vifusion record", std::move(backend), source)) {
     return config::kExitSource;
   }

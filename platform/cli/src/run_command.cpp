@@ -169,7 +169,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
   std::filesystem::create_directories(options.out);
   RunSource source;
-  SourceRequest request{options.source, options.calibration, options.out, inertial, 0, {}};
+  SourceRequest request{options.source, options.calibration, options.out, inertial, 0, {}, true};
   request.faults = datasets::parseFaultPlan(options.inject, "--inject");
   if (!openRunSource(request, "vifusion run", std::move(backend), source)) {
     return config::kExitSource;

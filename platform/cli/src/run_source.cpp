@@ -85,7 +85,7 @@ bool openRunSource(const SourceRequest& request, const char* command, std::uniqu
   }
   if (!request.faults.empty()) source.reader = datasets::withFaults(std::move(source.reader), request.faults);
   // A frame or IMU sample whose time does not increase is passed over and counted like an unreadable one.
-  source.reader = datasets::withIncreasingTimes(std::move(source.reader));
+  if (request.time_order_guard) source.reader = datasets::withIncreasingTimes(std::move(source.reader));
   if (!source.reader->imu().empty()) {
     source.recorded_imu = std::make_unique<RecordedImuFeed>(source.reader->imu());
     source.imu = source.recorded_imu.get();

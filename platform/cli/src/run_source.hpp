@@ -33,6 +33,9 @@ struct SourceRequest {
   std::size_t raw_transfers = 0;
   /// Faults to replay a recorded source with (datasets::withFaults); the live camera takes none.
   datasets::FaultPlan faults;
+  /// A recorded source read through datasets::withIncreasingTimes (run: a frame or IMU sample out of time order is
+  /// skipped and counted). false for record and synccheck, which pass on or judge the timestamps as they are.
+  bool time_order_guard = false;
 };
 
 /// A source's frames and their IMU samples: a recording hands every frame its whole IMU stream, the live

@@ -88,7 +88,7 @@ synccheck::SyncInput fromRecording(const std::string& path) {
 bool fromLive(const SyncCheckCommandOptions& options, std::unique_ptr<zr300::Zr300Backend> backend,
               std::unique_ptr<gpio_sync::GpioLineIo> line_io, synccheck::SyncInput& input) {
   RunSource source;
-  if (!openRunSource({options.source, options.calibration, "", true, kRawTransferRing, {}}, kCommand,
+  if (!openRunSource({options.source, options.calibration, "", true, kRawTransferRing, {}, false}, kCommand,
                      std::move(backend), source))
     return false;
   if (!source.reader->live())

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <optional>
+#include <string>
 
 #include "gpu_test_environment.hpp"
 #include "vifusion/core/error.hpp"
@@ -21,10 +23,10 @@ TEST_F(GpuTest, PicksAUsableDeviceAndQueriesItsFeatures) {
   EXPECT_GT(features.subgroup_size, 0u);
   EXPECT_NE(context().device(), VK_NULL_HANDLE);
   EXPECT_NE(context().queue(), VK_NULL_HANDLE);
-  std::cout << "device: " << features.device_name << " (" << gpu::deviceTypeName(features.device_type)
-            << "), subgroup " << features.subgroup_size << (features.subgroup_arithmetic ? " with" : " without")
-            << " arithmetic, fp64 " << features.float64 << ", float atomics " << features.float32_atomic_add
-            << ", unified memory " << features.unified_memory << "\n";
+  std::cout << "device: " << features.device_name << " (" << gpu::deviceTypeName(features.device_type) << "), subgroup "
+            << features.subgroup_size << (features.subgroup_arithmetic ? " with" : " without") << " arithmetic, fp64 "
+            << features.float64 << ", float atomics " << features.float32_atomic_add << ", unified memory "
+            << features.unified_memory << "\n";
 }
 
 TEST_F(GpuTest, HonoursADeviceNameOverride) {
@@ -60,11 +62,34 @@ TEST(GpuOptions, RejectsAMistypedEnvironmentSwitch) {
   unsetenv("VIFUSION_GPU_VALIDATION");
 }
 
+/// Sets an environment variable for a scope, restoring what was there (the whole binary run by hand shares one
+/// environment; ctest runs each case in its own process).
+class ScopedEnvironment {
+ public:
+  ScopedEnvironment(const char* name, const char* value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    setenv(name, value, 1);
+  }
+  ~ScopedEnvironment() {
+    if (old_) {
+      setenv(name_, old_->c_str(), 1);
+    } else {
+      unsetenv(name_);
+    }
+  }
+  ScopedEnvironment(const ScopedEnvironment&) = delete;
+  ScopedEnvironment& operator=(const ScopedEnvironment&) = delete;
+
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
+
 // ctest runs every test case in its own process, so pointing the loader at a missing driver here
 // is the first Vulkan call of the process.
 TEST(GpuContextMissingDevice, SaysThatNoDriverWasFound) {
-  setenv("VK_ICD_FILENAMES", "/nonexistent/vifusion_icd.json", 1);
-  setenv("VK_DRIVER_FILES", "/nonexistent/vifusion_icd.json", 1);
+  const ScopedEnvironment icd("VK_ICD_FILENAMES", "/nonexistent/vifusion_icd.json");
+  const ScopedEnvironment driver_files("VK_DRIVER_FILES", "/nonexistent/vifusion_icd.json");
   try {
     gpu::GpuContext::create(gpu::GpuOptions{});
     FAIL() << "expected an error without any Vulkan driver";

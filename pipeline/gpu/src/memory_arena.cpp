@@ -1,5 +1,6 @@
 #include "vifusion/gpu/memory_arena.hpp"
 
+#include <cstring>
 #include <map>
 
 #include "vifusion/core/error.hpp"
@@ -109,6 +110,11 @@ std::unique_ptr<MemoryArena> MemoryArena::create(const GpuContext& context, cons
     void* pointer = nullptr;
     checkVk(vkMapMemory(device, arena->memories_[block], 0, VK_WHOLE_SIZE, 0, &pointer), "mapping the GPU arena");
     mapped[block] = static_cast<std::byte*>(pointer);
+    // Committed now, not page by page as the map fills: a machine short of memory fails here at start rather than
+    // hours into a run, and the process's resident memory is flat from the first frame (system memory of a
+    // unified-memory GPU, or of lavapipe, is otherwise resident only once touched). Zeros also give every buffer
+    // a defined first content.
+    std::memset(pointer, 0, arena->blocks_[block].bytes);
   }
   for (std::size_t i = 0; i < placements.size(); ++i) {
     const std::size_t block = block_of_type[placements[i].memory_type];

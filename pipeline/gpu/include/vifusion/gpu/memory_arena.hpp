@@ -1,7 +1,8 @@
 #pragma once
 // All GPU memory of the process: one vkAllocateMemory per memory kind, sized from the capacity
 // plan at start-up and sub-allocated to every buffer. Host-visible memory stays mapped for the
-// arena's lifetime, so per-frame uploads and readbacks are plain memcpy.
+// arena's lifetime, so per-frame uploads and readbacks are plain memcpy; it is zeroed at creation,
+// which commits it (resident from the start, never growing as the map fills).
 
 #include <vulkan/vulkan.h>
 

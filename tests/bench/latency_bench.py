@@ -15,54 +15,25 @@ LatencyWindow: the newest 300 frames, nearest rank), the frame rate, the frames 
 The whole-run summary is of the last 300 processed frames; the first status messages (the map and the
 estimator starting) are not in it when the run is longer than 300 frames.
 """
-import argparse
 import json
 import pathlib
 import shutil
-import subprocess
 import sys
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "service"))
 from service_harness import Echo, dds_domain_and_partition, fail, start  # noqa: E402
 
+from generated_sequence import frames_in, prepared_sequence, sequence_parser  # noqa: E402
+
 FRAME_RATE_HZ = 30.0  # `vifusion sim` renders at 30 Hz
 GOAL_FRAME_PERIODS = 2.0  # issue 19: p99 ≤ 2 frame periods at the camera's rate
 
 
-def generate(bin_dir, preset, width, height, duration, directory):
-    if (directory / "calibration.yaml").exists():
-        return
-    partial = directory.with_name(directory.name + ".partial")
-    subprocess.run([f"{bin_dir}/vifusion", "sim", "--preset", preset, "--width", str(width), "--height", str(height),
-                    "--duration", str(duration), "--out", str(partial)], check=True, stdout=subprocess.DEVNULL)
-    partial.rename(directory)
-
-
-def frames_in(sequence):
-    with open(sequence / "rgb.txt") as f:
-        return sum(1 for line in f if line.strip() and not line.startswith("#"))
-
-
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--bin", required=True, help="directory holding vifusion and vifusiond")
-    parser.add_argument("--dds-config", required=True, help="Cyclone DDS XML (the loopback config)")
-    parser.add_argument("--out", required=True, help="JSON file to write")
-    parser.add_argument("--preset", default="living_room_0")
-    parser.add_argument("--width", type=int, default=320)
-    parser.add_argument("--height", type=int, default=240)
-    parser.add_argument("--duration", type=float, default=20.0, help="seconds of the sequence")
-    parser.add_argument("--mode", default="rgbdi", choices=["rgbd", "rgbdi", "gyro"])
-    parser.add_argument("--data-dir", help="where the generated sequence is kept (default: beside --out)")
+    parser = sequence_parser(__doc__, "living_room_0", 20.0, "rgbdi")
     args = parser.parse_args()
-    if args.duration <= 0:
-        fail(f"--duration must be > 0 s, got {args.duration}")
 
-    out = pathlib.Path(args.out).resolve()
-    data_dir = pathlib.Path(args.data_dir).resolve() if args.data_dir else out.parent
-    data_dir.mkdir(parents=True, exist_ok=True)
-    sequence = data_dir / f"{args.preset}_{args.width}x{args.height}_{args.duration:g}s"
-    generate(args.bin, args.preset, args.width, args.height, args.duration, sequence)
+    out, data_dir, sequence = prepared_sequence(args)
 
     domain, partition = dds_domain_and_partition("latency-bench")
     dds = ["--dds.config", args.dds_config, "--dds.domain", str(domain), "--dds.partition", partition]

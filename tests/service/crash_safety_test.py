@@ -90,6 +90,22 @@ def check_directory(out, known, after):
     return present
 
 
+def restart_on_map_file(command, domain, partition, after):
+    """Starts `command` again with map_file_required true (what the earlier run left must load) and returns the
+    seconds until it published its first status; fails past PUBLISH_AGAIN_S."""
+    at = command.index("--map_file_required")
+    started = time.monotonic()
+    daemon = start([*command[:at + 1], "true", *command[at + 2:]], stderr=subprocess.DEVNULL)
+    echo = Echo(f"{BIN}/vifusion", "rt/vifusion/status", 1, PUBLISH_AGAIN_S,
+                ["--dds-config", DDS_CONFIG, "--domain", str(domain), "--partition", partition])
+    if echo.wait(PUBLISH_AGAIN_S + 5) != 0 or not echo.lines:
+        fail(f"after {after} the service did not publish again within {PUBLISH_AGAIN_S} s")
+    published_s = echo.lines[0][0] - started
+    if stop(daemon) != 0:
+        fail(f"the restarted service stopped with {daemon.returncode}")
+    return published_s
+
+
 def run_case():
     out = os.path.join(WORK, "crash_run")
     shutil.rmtree(out, ignore_errors=True)
@@ -139,15 +155,7 @@ def service_case():
         check_directory(out, known, f"kill {kill}")
     # What the kills left is loaded again (map_file_required stays false only so that a first start may create
     # it): the service comes back and publishes.
-    restart = [*command[:command.index("--map_file_required") + 1], "true", *command[command.index("--map_file_required") + 2:]]
-    started = time.monotonic()
-    daemon = start(restart, stderr=subprocess.DEVNULL)
-    echo = Echo(f"{BIN}/vifusion", "rt/vifusion/status", 1, PUBLISH_AGAIN_S,
-                ["--dds-config", DDS_CONFIG, "--domain", str(domain), "--partition", partition])
-    if echo.wait(PUBLISH_AGAIN_S + 5) != 0 or not echo.lines:
-        fail(f"after {KILLS} SIGKILLs the service did not publish again within {PUBLISH_AGAIN_S} s")
-    published_s = echo.lines[0][0] - started
-    stop(daemon)
+    published_s = restart_on_map_file(command, domain, partition, f"{KILLS} SIGKILLs")
     print(f"vifusiond: {KILLS} SIGKILLs, every file complete; restarted on the map file and published after "
           f"{published_s:.1f} s", flush=True)
 
@@ -176,17 +184,7 @@ def device_lost_case():
     if not os.path.exists(map_file):
         fail("no periodic map save before the loss")
     # Restarted (as systemd does after exit 4), without the fault: it loads what was saved and publishes.
-    restart = [*command[:command.index("--map_file_required") + 1], "true",
-               *command[command.index("--map_file_required") + 2:]]
-    started = time.monotonic()
-    daemon = start(restart, stderr=subprocess.DEVNULL)
-    echo = Echo(f"{BIN}/vifusion", "rt/vifusion/status", 1, PUBLISH_AGAIN_S,
-                ["--dds-config", DDS_CONFIG, "--domain", str(domain), "--partition", partition])
-    if echo.wait(PUBLISH_AGAIN_S + 5) != 0 or not echo.lines:
-        fail(f"after the lost device the service did not publish again within {PUBLISH_AGAIN_S} s")
-    published_s = echo.lines[0][0] - started
-    if stop(daemon) != 0:
-        fail(f"the restarted service stopped with {daemon.returncode}")
+    published_s = restart_on_map_file(command, domain, partition, "the lost device")
     print(f"vifusiond: device lost at frame {lost_at}: exit 4, {len(poses)} poses and the map file kept; restarted on "
           f"it and published after {published_s:.1f} s", flush=True)
 

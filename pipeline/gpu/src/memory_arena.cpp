@@ -17,11 +17,15 @@ struct MemoryPreference {
 // Uploads prefer device-local host-visible memory (UMA SBCs, resizable BAR) so kernels read them
 // at full speed; readbacks prefer cached memory because uncached CPU reads are very slow.
 MemoryPreference preferenceFor(MemoryUse use) {
-  constexpr VkMemoryPropertyFlags kHostCoherent = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  constexpr VkMemoryPropertyFlags kHostCoherent =
+      VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
   switch (use) {
-    case MemoryUse::DeviceLocal: return {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0};
-    case MemoryUse::Upload: return {kHostCoherent, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT};
-    case MemoryUse::Readback: return {kHostCoherent, VK_MEMORY_PROPERTY_HOST_CACHED_BIT};
+    case MemoryUse::DeviceLocal:
+      return {VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0};
+    case MemoryUse::Upload:
+      return {kHostCoherent, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT};
+    case MemoryUse::Readback:
+      return {kHostCoherent, VK_MEMORY_PROPERTY_HOST_CACHED_BIT};
   }
   return {0, 0};
 }
@@ -69,7 +73,8 @@ std::unique_ptr<MemoryArena> MemoryArena::create(const GpuContext& context, cons
     VkBufferCreateInfo info{};
     info.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
     info.size = request.bytes;
-    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    info.usage =
+        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     GpuBuffer buffer;
     buffer.bytes = request.bytes;
@@ -96,9 +101,9 @@ std::unique_ptr<MemoryArena> MemoryArena::create(const GpuContext& context, cons
     info.memoryTypeIndex = memory_type;
     VkDeviceMemory memory = VK_NULL_HANDLE;
     const VkMemoryPropertyFlags flags = context.memoryProperties().memoryTypes[memory_type].propertyFlags;
-    checkVk(vkAllocateMemory(device, &info, nullptr, &memory),
-            "allocating the GPU arena for memory type " + std::to_string(memory_type) + " (" +
-                std::to_string(bytes) + " bytes)");
+    checkVk(vkAllocateMemory(device, &info, nullptr, &memory), "allocating the GPU arena for memory type " +
+                                                                   std::to_string(memory_type) + " (" +
+                                                                   std::to_string(bytes) + " bytes)");
     arena->memories_.push_back(memory);
     block_of_type[memory_type] = arena->blocks_.size();
     arena->blocks_.push_back({memory_type, flags, bytes, 0});

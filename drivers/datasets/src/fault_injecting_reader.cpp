@@ -142,10 +142,7 @@ class FaultInjectingReader final : public DatasetReader {
           recorded.begin());
     };
     for (const Fault& fault : plan_.faults) {
-      const bool imu_fault = fault.kind == FaultKind::kImuGap || fault.kind == FaultKind::kImuDuplicate ||
-                             fault.kind == FaultKind::kImuReorder || fault.kind == FaultKind::kImuNan ||
-                             fault.kind == FaultKind::kImuInf;
-      if (!imu_fault && fault.kind != FaultKind::kClockJump) continue;
+      if (!happensBetweenFrames(fault.kind)) continue;
       const std::int64_t moment_ns = momentBefore(fault.frame);
       if (fault.kind == FaultKind::kClockJump) {
         for (std::size_t i = firstAtOrAfter(moment_ns); i < recorded.size(); ++i)

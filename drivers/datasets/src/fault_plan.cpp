@@ -113,9 +113,7 @@ Fault parseFault(std::string_view entry, const std::string& where) {
     if (known->value == ValueUse::kNone) throw Error(prefix + std::string(name) + " takes no value");
     fault.value = parseValue(rest.substr(colon + 1), *known, prefix);
   }
-  if (fault.frame == 0 && (fault.kind == FaultKind::kImuGap || fault.kind == FaultKind::kImuDuplicate ||
-                           fault.kind == FaultKind::kImuReorder || fault.kind == FaultKind::kImuNan ||
-                           fault.kind == FaultKind::kImuInf || fault.kind == FaultKind::kClockJump)) {
+  if (fault.frame == 0 && happensBetweenFrames(fault.kind)) {
     throw Error(prefix + "it happens between frames K-1 and K, so K must be at least 1");
   }
   return fault;

@@ -40,6 +40,12 @@ enum class FaultKind {
   kDeviceLost,
 };
 
+/// The IMU faults and the clock jump happen between frames K−1 and K (at the middle of their recorded times).
+constexpr bool happensBetweenFrames(FaultKind kind) {
+  return kind == FaultKind::kImuGap || kind == FaultKind::kImuDuplicate || kind == FaultKind::kImuReorder ||
+         kind == FaultKind::kImuNan || kind == FaultKind::kImuInf || kind == FaultKind::kClockJump;
+}
+
 struct Fault {
   FaultKind kind = FaultKind::kFrameDrop;
   std::size_t frame = 0;  ///< K: the source frame it happens at (0-based, in recorded order)

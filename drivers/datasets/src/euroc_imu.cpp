@@ -39,7 +39,7 @@ ImuSample readRow(std::string_view line, const std::string& prefix, const Column
     }
   }
   ImuSample sample;
-  sample.t_ns = detail::parseInt64(fields[index[0]], prefix, kColumns[0]);
+  sample.t_ns = detail::parseStampNs(fields[index[0]], prefix, kColumns[0]);
   for (int axis = 0; axis < 3; ++axis) {
     sample.gyro_rad_s[axis] = detail::parseFinite(fields[index[1 + axis]], prefix, kColumns[1 + axis]);
     sample.accel_mps2[axis] = detail::parseFinite(fields[index[4 + axis]], prefix, kColumns[4 + axis]);

@@ -53,7 +53,7 @@ std::vector<GroundTruthState> readGroundTruthStates(const std::filesystem::path&
     std::array<double, 17> v{};
     for (std::size_t c = 1; c < kColumns.size(); ++c) v[c] = detail::parseFinite(fields[c], prefix, kColumns[c]);
     GroundTruthState state;
-    state.t_ns = detail::parseInt64(fields[0], prefix, kColumns[0]);
+    state.t_ns = detail::parseStampNs(fields[0], prefix, kColumns[0]);
     state.p_W_S = Eigen::Vector3d(v[1], v[2], v[3]);
     state.q_W_S = Eigen::Quaterniond(v[7], v[4], v[5], v[6]);
     if (!(std::abs(state.q_W_S.norm() - 1.0) <= kMaxQuaternionNormError)) {

@@ -60,7 +60,7 @@ KlgReader::KlgReader(const std::filesystem::path& path)
     record.depth_size = fromBytes<std::int32_t>(header + 8);
     record.image_size = fromBytes<std::int32_t>(header + 12);
     record.offset = offset + kFrameHeaderBytes;
-    if (t_us < 0 || t_us > INT64_MAX / kNsPerMicrosecond) {
+    if (t_us < 0 || t_us > kMaxFileStampNs / kNsPerMicrosecond) {
       throw Error(frame + "timestamp " + std::to_string(t_us) + " us is out of range");
     }
     record.t_ns = t_us * kNsPerMicrosecond;

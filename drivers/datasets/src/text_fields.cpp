@@ -81,11 +81,21 @@ std::int64_t parseSecondsToNs(std::string_view text, const std::string& prefix, 
   double t_s = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), t_s);
   // Negative stamps are refused: every dataset time base here starts at or after zero.
-  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(t_s) || t_s < 0.0 || t_s >= 9.2e9) {
-    throw Error(prefix + "field '" + std::string(name) + "' is not a timestamp in seconds: '" + std::string(text) +
-                "'");
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(t_s) || t_s < 0.0 ||
+      t_s > nsToSeconds(kMaxFileStampNs)) {
+    throw Error(prefix + "field '" + std::string(name) + "' is not a timestamp in seconds between 0 and " +
+                std::to_string(kMaxFileStampNs / kNsPerSecond) + ": '" + std::string(text) + "'");
   }
-  return secondsToNs(t_s);
+  return std::min(secondsToNs(t_s), kMaxFileStampNs);
+}
+
+std::int64_t parseStampNs(std::string_view text, const std::string& prefix, std::string_view name) {
+  const std::int64_t t_ns = parseInt64(text, prefix, name);
+  if (t_ns < 0 || t_ns > kMaxFileStampNs) {
+    throw Error(prefix + "column '" + std::string(name) + "' is not a timestamp in nanoseconds between 0 and " +
+                std::to_string(kMaxFileStampNs) + ": '" + std::string(text) + "'");
+  }
+  return t_ns;
 }
 
 std::int64_t parseInt64(std::string_view text, const std::string& prefix, std::string_view name) {
@@ -116,7 +126,13 @@ std::string formatMs(std::int64_t dt_ns) {
 }
 
 void requireIncreasing(std::int64_t previous_t_ns, std::int64_t t_ns, const std::string& prefix) {
-  if (t_ns < previous_t_ns) throw Error(prefix + "timestamp goes backwards by " + formatMs(previous_t_ns - t_ns));
+  if (t_ns < previous_t_ns) {
+    // Unsigned, because two arbitrary int64_t stamps can be further apart than int64_t holds.
+    const std::uint64_t back_ns = static_cast<std::uint64_t>(previous_t_ns) - static_cast<std::uint64_t>(t_ns);
+    std::ostringstream back;
+    back << static_cast<double>(back_ns) / static_cast<double>(kNsPerMillisecond) << " ms";
+    throw Error(prefix + "timestamp goes backwards by " + back.str());
+  }
   if (t_ns == previous_t_ns) throw Error(prefix + "timestamp repeats the previous one");
 }
 

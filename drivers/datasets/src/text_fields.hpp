@@ -33,8 +33,13 @@ std::string where(const std::string& file, std::size_t line_number);
 
 /// Decimal seconds ("1305031098.6659", "0", "12.5") to ns, exactly: digits are converted one by one,
 /// because a double holds a 10-digit epoch second only to ~0.2 µs. Exponent notation is accepted
-/// through a double. @throws vifusion::Error "<prefix>field '<name>' is not a timestamp: '<text>'".
+/// through a double. Stamps must lie in [0, kMaxFileStampNs].
+/// @throws vifusion::Error "<prefix>field '<name>' is not a timestamp in seconds between 0 and ...".
 std::int64_t parseSecondsToNs(std::string_view text, const std::string& prefix, std::string_view name);
+
+/// An integer stamp in nanoseconds (EuRoC's first column), within [0, kMaxFileStampNs].
+/// @throws vifusion::Error naming the field and the range.
+std::int64_t parseStampNs(std::string_view text, const std::string& prefix, std::string_view name);
 
 /// A decimal integer (optionally signed). @throws vifusion::Error naming the field.
 std::int64_t parseInt64(std::string_view text, const std::string& prefix, std::string_view name);

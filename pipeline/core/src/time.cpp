@@ -15,7 +15,6 @@ std::optional<std::int64_t> decimalSecondsToNs(std::string_view text) {
   const std::size_t dot = text.find('.');
   const std::string_view whole = text.substr(0, dot);
   const std::string_view fraction = dot == std::string_view::npos ? std::string_view() : text.substr(dot + 1);
-  // 10 whole digits keep seconds · 1e9 below 2^63 (9.2e18).
   if (whole.empty() || whole.size() > 10 || fraction.size() > 9) return std::nullopt;
   std::int64_t seconds = 0;
   for (const char c : whole) {
@@ -28,7 +27,11 @@ std::optional<std::int64_t> decimalSecondsToNs(std::string_view text) {
     if (c < '0' || c > '9') return std::nullopt;
     fraction_ns = fraction_ns * 10 + (c - '0');
   }
-  return seconds * kNsPerSecond + fraction_ns;
+  // Checked in seconds first, so the product below cannot overflow.
+  if (seconds > kMaxFileStampNs / kNsPerSecond) return std::nullopt;
+  const std::int64_t t_ns = seconds * kNsPerSecond + fraction_ns;
+  if (t_ns > kMaxFileStampNs) return std::nullopt;
+  return t_ns;
 }
 
 }  // namespace vifusion

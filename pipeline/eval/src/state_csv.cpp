@@ -10,6 +10,7 @@
 
 #include "vifusion/core/atomic_file.hpp"
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/time.hpp"
 
 namespace vifusion::eval {
 namespace {
@@ -62,6 +63,10 @@ class CsvReader {
         fail("expected " + std::to_string(header_.size()) + " columns, found " + std::to_string(fields_.size()));
       }
       const int64_t t_ns = integerAt(0);
+      if (!isFileStampInRange(t_ns)) {
+        fail("column '" + header_[0] + "' is beyond the " + std::to_string(kMaxFileStampNs) +
+             " ns a stamp may hold: '" + std::string(fields_[0]) + "'");
+      }
       if (has_previous_ && t_ns <= previous_t_ns_) {
         char step[64];
         std::snprintf(step, sizeof(step), "%.3f ms", static_cast<double>(previous_t_ns_ - t_ns) * 1e-6);

@@ -1,5 +1,6 @@
 #include "vifusion/eval/trajectory_io.hpp"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -69,10 +70,11 @@ StampedPose parseLine(const std::vector<std::string_view>& fields, const std::st
     pose.t_ns = *exact;
   } else {
     // Exponent notation, a sign or sub-nanosecond digits: round through double instead.
-    if (std::abs(values[0]) >= 9.2e9) {
-      throw Error(where + "field 't' is out of range for a stamp in nanoseconds: '" + std::string(fields[0]) + "'");
+    if (std::abs(values[0]) > nsToSeconds(kMaxFileStampNs)) {
+      throw Error(where + "field 't' is beyond the " + std::to_string(kMaxFileStampNs / kNsPerSecond) +
+                  " s a stamp may hold: '" + std::string(fields[0]) + "'");
     }
-    pose.t_ns = secondsToNs(values[0]);
+    pose.t_ns = std::clamp(secondsToNs(values[0]), -kMaxFileStampNs, kMaxFileStampNs);
   }
   const Eigen::Quaterniond q(values[7], values[4], values[5], values[6]);
   const double norm_error = std::abs(q.norm() - 1.0);

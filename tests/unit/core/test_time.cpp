@@ -83,6 +83,15 @@ TEST(DecimalSecondsToNs, ConvertsPlainDecimalsExactly) {
   EXPECT_EQ(decimalSecondsToNs("1.123456789"), 1123456789);
 }
 
+TEST(DecimalSecondsToNs, StopsAtTheFileStampRange) {
+  EXPECT_EQ(decimalSecondsToNs("4000000000"), kMaxFileStampNs);
+  EXPECT_FALSE(decimalSecondsToNs("4000000000.000000001").has_value());
+  // Ten whole digits above 9223372036 s would overflow int64_t nanoseconds.
+  EXPECT_FALSE(decimalSecondsToNs("9999999999.999999999").has_value());
+  EXPECT_TRUE(isFileStampInRange(-kMaxFileStampNs));
+  EXPECT_FALSE(isFileStampInRange(kMaxFileStampNs + 1));
+}
+
 TEST(DecimalSecondsToNs, RejectsEverythingElse) {
   for (const char* text : {"", "-1.0", "1e3", "1.0123456789", "12345678901.0", " 1.0", "1.0 ", "1..0", ".5", "nan"}) {
     EXPECT_FALSE(decimalSecondsToNs(text).has_value()) << "'" << text << "'";

@@ -124,6 +124,17 @@ TEST(EurocImu, RejectsTimeGoingBackwardsOrRepeating) {
   expectError([&] { readEurocImu(dir / "rep.csv"); }, "rep.csv line 3: timestamp repeats the previous one");
 }
 
+TEST(EurocImu, RejectsStampsOutsideTheFileRange) {
+  TempDir dir;
+  writeText(dir / "neg.csv", std::string(kHeader) + "-5,0,0,0,0,0,9.81\n");
+  expectError([&] { readEurocImu(dir / "neg.csv"); },
+              "neg.csv line 2: column 'timestamp' is not a timestamp in nanoseconds between 0 and 4000000000000000000: "
+              "'-5'");
+  // A stamp near 2^63 ns followed by a small one: the step between them would overflow int64_t.
+  writeText(dir / "big.csv", std::string(kHeader) + "9223372036854775000,0,0,0,0,0,9.81\n");
+  expectError([&] { readEurocImu(dir / "big.csv"); }, "big.csv line 2: column 'timestamp' is not a timestamp");
+}
+
 TEST(EurocImu, RejectsMissingFile) {
   TempDir dir;
   expectError([&] { readEurocImu(dir / "imu.csv"); }, "imu.csv: cannot open file");

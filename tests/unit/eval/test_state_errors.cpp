@@ -135,6 +135,11 @@ TEST(StateCsv, CorruptTablesNameFileLineAndColumn) {
     const TempFile file("states.csv", header + "1.5" + row);
     expectError([&] { readEstimatedStates(file.path()); }, "column 't_ns' is not an integer: '1.5'");
   }
+  {
+    const TempFile file("states.csv", header + "-9223372036854775000" + row);
+    expectError([&] { readEstimatedStates(file.path()); },
+                "line 2: column 't_ns' is beyond the 4000000000000000000 ns a stamp may hold");
+  }
   expectError([] { readEstimatedStates("/nonexistent/states.csv"); }, "/nonexistent/states.csv: cannot be read");
 }
 

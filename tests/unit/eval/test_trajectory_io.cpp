@@ -5,6 +5,7 @@
 #include <string>
 
 #include "expect_error.hpp"
+#include "vifusion/core/time.hpp"
 #include "vifusion/eval/trajectory_io.hpp"
 
 namespace vifusion::eval {
@@ -62,8 +63,20 @@ TEST(TrajectoryIo, NonFiniteOrGarbageFieldIsNamed) {
 TEST(TrajectoryIo, BackwardsAndRepeatedStampsAreRejected) {
   expectError([] { parseTum("1.000 0 0 0 0 0 0 1\n0.995 0 0 0 0 0 0 1\n", "imu.txt"); },
               "imu.txt line 2: timestamp goes backwards by 5 ms");
-  expectError([] { parseTum("1.0 0 0 0 0 0 0 1\n1.000 0 0 0 0 0 0 1\n", "x.txt"); },
-              "x.txt line 2: timestamp repeats");
+  expectError([] { parseTum("1.0 0 0 0 0 0 0 1\n1.000 0 0 0 0 0 0 1\n", "x.txt"); }, "x.txt line 2: timestamp repeats");
+}
+
+TEST(TrajectoryIo, StampsBeyondTheFileRangeAreRejected) {
+  // Found by fuzz_dataset_lists: a stamp near -2^63 ns after a 2011 one overflowed the step between them.
+  expectError([] { parseTum("1305031102.16 0 0 0 0 0 0 1\n-9141712971.3 0 0 0 0 0 0 1\n", "t.txt"); },
+              "t.txt line 2: field 't' is beyond the 4000000000 s a stamp may hold: '-9141712971.3'");
+  expectError([] { parseTum("9999999999.999999999 0 0 0 0 0 0 1\n", "t.txt"); },
+              "t.txt line 1: field 't' is beyond the 4000000000 s");
+  // The extremes of the range still order and round-trip.
+  const std::vector<StampedPose> poses = parseTum("-4e9 0 0 0 0 0 0 1\n4000000000 0 0 0 0 0 0 1\n", "t.txt");
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_EQ(poses[0].t_ns, -kMaxFileStampNs);
+  EXPECT_EQ(poses[1].t_ns, kMaxFileStampNs);
 }
 
 TEST(TrajectoryIo, QuaternionFarFromUnitIsRejected) {

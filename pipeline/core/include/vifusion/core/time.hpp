@@ -30,6 +30,15 @@ inline std::int64_t secondsToNs(double t_s) {
   return static_cast<std::int64_t>(std::llround(t_ns));
 }
 
+/// Largest stamp magnitude a file may hold [ns]: 4e9 s, Unix time in the year 2096 (CLOCK_MONOTONIC
+/// stamps are far smaller). Readers refuse stamps outside ±kMaxFileStampNs, so the difference of any
+/// two stamps, or a stamp ± a window up to kMaxFileStampNs, fits in int64_t (2 · 4e18 < 9.22e18)
+/// and code downstream can subtract stamps without overflow.
+inline constexpr std::int64_t kMaxFileStampNs = 4'000'000'000 * kNsPerSecond;
+
+/// Whether a stamp read from a file lies within ±kMaxFileStampNs.
+constexpr bool isFileStampInRange(std::int64_t t_ns) { return t_ns >= -kMaxFileStampNs && t_ns <= kMaxFileStampNs; }
+
 /// Current host CLOCK_MONOTONIC time [ns]: the clock V4L2 buffer timestamps and libgpiod edge events
 /// use, so sensor times and host times compare without conversion.
 std::int64_t monotonicNowNs();
@@ -37,7 +46,8 @@ std::int64_t monotonicNowNs();
 /// Exact conversion of plain decimal seconds text, "digits[.digits]" with at most 10 whole and 9
 /// fractional digits (what TUM, ICL-NUIM and EuRoC files hold), to nanoseconds: 1305031098.6659 s
 /// becomes exactly 1305031098665900000 ns, where a double would round to ~0.2 µs at this magnitude
-/// and break exact stamp comparisons. Anything else (signs, exponents, spaces) gives nullopt.
+/// and break exact stamp comparisons. Anything else (signs, exponents, spaces) gives nullopt, and so
+/// does a value beyond kMaxFileStampNs.
 std::optional<std::int64_t> decimalSecondsToNs(std::string_view text);
 
 }  // namespace vifusion

@@ -190,6 +190,7 @@ inline void expectSame(const msg::Status& a, const msg::Status& b, const std::st
   EXPECT_EQ(a.map_file_bytes, b.map_file_bytes) << path << ".map_file_bytes";
   EXPECT_EQ(a.map_capture_ms, b.map_capture_ms) << path << ".map_capture_ms";
   EXPECT_EQ(a.map_write_ms, b.map_write_ms) << path << ".map_write_ms";
+  expectSameString(a.vifusion_version, b.vifusion_version, path + ".vifusion_version");
 }
 
 inline void expectSame(const msg::MapSaveRequest& a, const msg::MapSaveRequest& b, const std::string& path) {

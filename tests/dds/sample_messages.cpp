@@ -115,6 +115,7 @@ SampleMessages::SampleMessages() {
   status.map_file_bytes = 30'812'345;
   status.map_capture_ms = 41.5f;
   status.map_write_ms = 180.25f;
+  status.vifusion_version = text("0.18.0-dev");
   map_save_request.request_id = 0x0123'4567'89ab'cdefULL;
 }
 

@@ -315,6 +315,11 @@ def rgbdi():
     last_status = max(final, key=lambda m: m["heartbeat"])
     print(f"status at the end: {last_status['frames_processed']} frames, {last_status['lost_frames']} lost, "
           f"{last_status['imu_issue_frames']} without IMU", flush=True)
+    # One version (issue 23): the status names the one `vifusiond --version` prints.
+    version = subprocess.run([f"{BIN}/vifusiond", "--version"], capture_output=True, text=True, check=True)
+    if version.stdout.split() != ["vifusiond", last_status["vifusion_version"]]:
+        fail(f"status vifusion_version '{last_status['vifusion_version']}' is not vifusiond --version's "
+             f"'{version.stdout.strip()}'")
     if last_status["imu_issue_frames"] > 1:
         fail(f"{last_status['imu_issue_frames']} frames had their IMU samples refused on a clean simulated stream")
 

@@ -4,6 +4,7 @@
 #include <string_view>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/version.hpp"
 #include "vifusion/datasets/kalibr.hpp"
 #include "vifusion/motion/packet_format.hpp"
 #include "vifusion/recording/topics.hpp"
@@ -116,7 +117,7 @@ bool RecordingFile::open(const std::filesystem::path& path, const RecordingHeade
     RecordingInfo info;
     info.header = makeHeader(t_ns, "");
     info.source = header.source;
-    info.vifusion_version = VIFUSION_VERSION;
+    info.vifusion_version = versionString();
     info.calibration_yaml = yaml;
     info.mode = header.mode;
     info.width = static_cast<std::uint32_t>(colour_width_);

@@ -14,10 +14,12 @@
 #include "sim_command.hpp"
 #include "synccheck_command.hpp"
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/version.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"vifusion: dense RGB-D-inertial SLAM on Vulkan compute"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("vifusion ") + vifusion::versionString());
 
   vifusion::cli::SelfCheckOptions self_check;
   CLI::App* self_check_command =

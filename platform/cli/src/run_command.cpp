@@ -23,6 +23,7 @@
 #include "vifusion/core/error.hpp"
 #include "vifusion/core/imu_feed.hpp"
 #include "vifusion/core/time.hpp"
+#include "vifusion/core/version.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/state_csv.hpp"
@@ -319,6 +320,7 @@ int runPipeline(const RunOptions& options, std::unique_ptr<zr300::Zr300Backend> 
 
   const int frames = static_cast<int>(trajectory.size());
   nlohmann::json report = {
+      {"vifusion_version", versionString()},
       {"source", options.source},
       {"dataset", reader->describe()},
       {"mode", options.mode},

@@ -4,6 +4,7 @@
 
 #include "vifusion/config/config_keys.hpp"
 #include "vifusion/config/yaml_loader.hpp"
+#include "vifusion/core/version.hpp"
 
 namespace vifusion::config {
 
@@ -37,9 +38,10 @@ DaemonConfig CommandLine::resolve() const {
 
 int parseCommandLine(CLI::App& app, CommandLine& command_line, int argc, char** argv, const char* program,
                      DaemonConfig& config) {
+  app.set_version_flag("--version", std::string(program) + " " + versionString());
   try {
     app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
+  } catch (const CLI::Success& e) {  // --help or --version
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "%s: %s (see --help)\n", program, e.what());

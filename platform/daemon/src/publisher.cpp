@@ -3,6 +3,7 @@
 #include <thread>
 
 #include "vifusion/core/time.hpp"
+#include "vifusion/core/version.hpp"
 #include "vifusion/service/log.hpp"
 
 namespace vifusion::daemon {
@@ -174,6 +175,7 @@ void Publisher::publishStatus(std::int64_t now_ns) {
   status.map_file_bytes = state_.map_file_bytes.load();
   status.map_capture_ms = static_cast<float>(state_.map_capture_ms.load());
   status.map_write_ms = static_cast<float>(state_.map_write_ms.load());
+  status.vifusion_version = const_cast<char*>(versionString());  // the C type's string is char*; only read
   status_.write(status);
 }
 

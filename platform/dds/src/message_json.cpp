@@ -276,6 +276,7 @@ void writeJson(JsonLine& json, const msg::Status& message, bool) {
   field(json, "map_file_bytes", message.map_file_bytes);
   field(json, "map_capture_ms", message.map_capture_ms);
   field(json, "map_write_ms", message.map_write_ms);
+  field(json, "vifusion_version", message.vifusion_version);
   json.endObject();
 }
 

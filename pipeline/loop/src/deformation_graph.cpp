@@ -5,6 +5,7 @@
 #include <string>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/resident_memory.hpp"
 
 namespace vifusion::loop {
 namespace {
@@ -82,21 +83,25 @@ const char* deformationSolveStatusName(DeformationSolveStatus status) {
 DeformationGraph::DeformationGraph(const DeformationGraphOptions& options) : options_(options) {
   options_.validate();
   const auto nodes = static_cast<std::size_t>(options_.max_nodes);
-  positions_W_.resize(nodes);
+  // Everything sized here is written first when a graph is built or solved, mid-run: resident now
+  // (resident_memory.hpp).
+  resizeResident(positions_W_, nodes, Eigen::Vector3d::Zero().eval());
   times_.resize(nodes);
   order_.resize(nodes);
-  edges_.reserve(nodes * 2 * static_cast<std::size_t>(options_.neighbours_per_side));
-  constraints_.reserve(static_cast<std::size_t>(options_.max_constraints));
+  const std::size_t max_edges = nodes * 2 * static_cast<std::size_t>(options_.neighbours_per_side);
+  reserveResident(edges_, max_edges, {});
+  reserveResident(constraints_, static_cast<std::size_t>(options_.max_constraints), {});
   const Eigen::Index params = static_cast<Eigen::Index>(kNodeParamDim) * options_.max_nodes;
-  committed_.resize(params);
-  pending_.resize(params);
-  iterate_.resize(params);
-  trial_.resize(params);
-  delta_.resize(params);
+  committed_.setZero(params);
+  pending_.setZero(params);
+  iterate_.setZero(params);
+  trial_.setZero(params);
+  delta_.setZero(params);
   system_ = BlockSparseSystem(solverCapacity(options_));
   // Every edge and, per constraint, each pair among its (at most two) bindings' nodes.
   constexpr std::size_t kPairsPerConstraint = kBoundNodes * (2 * kBoundNodes - 1);
-  pattern_pairs_.reserve(edges_.capacity() + static_cast<std::size_t>(options_.max_constraints) * kPairsPerConstraint);
+  reserveResident(pattern_pairs_, max_edges + static_cast<std::size_t>(options_.max_constraints) * kPairsPerConstraint,
+                  {});
 }
 
 void DeformationGraph::build(std::span<const NodeSample> samples, std::uint32_t free_from_time) {

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/resident_memory.hpp"
 
 namespace vifusion::loop {
 namespace {
@@ -57,8 +58,10 @@ BlockSparseSystem::BlockSparseSystem(const BlockSparseCapacity& capacity) : capa
   list_row_.resize(p);
   column_begin_.resize(at(n) + 1);
   pattern_row_.resize(p);
-  blocks_.resize(p);
-  gradient_.resize(at(n));
+  // The blocks are written first at the first closure, and the factor's further as the graph grows:
+  // resident now, so RSS does not grow (or fault) mid-run (resident_memory.hpp).
+  resizeResident(blocks_, p, Matrix12d::Zero().eval());
+  resizeResident(gradient_, at(n), Vector12d::Zero().eval());
   parent_.resize(at(n));
   flag_.resize(at(n));
   reach_.resize(at(n));
@@ -66,9 +69,9 @@ BlockSparseSystem::BlockSparseSystem(const BlockSparseCapacity& capacity) : capa
   factor_begin_.resize(at(n) + 1);
   factor_fill_.resize(at(n));
   factor_row_.resize(at(factor_blocks));
-  factor_off_.resize(at(factor_blocks));
-  factor_diag_.resize(at(n));
-  work_.resize(at(n));
+  resizeResident(factor_off_, at(factor_blocks), Matrix12d::Zero().eval());
+  resizeResident(factor_diag_, at(n), Matrix12d::Zero().eval());
+  resizeResident(work_, at(n), Matrix12d::Zero().eval());
 }
 
 std::int64_t BlockSparseSystem::factorNonzeros() const {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/resident_memory.hpp"
 
 namespace vifusion::slam {
 namespace {
@@ -118,7 +119,7 @@ LoopClosure::LoopClosure(gpu::GpuContext& context, gpu::CapacityPlan& plan, cons
     options_.graph.max_constraints = static_cast<int>(2 * grid_.size());  // a constraint and a pin per grid point
   }
   graph_ = std::make_unique<loop::DeformationGraph>(options_.graph);
-  node_samples_.resize(static_cast<std::size_t>(options_.graph.max_nodes));
+  resizeResident(node_samples_, static_cast<std::size_t>(options_.graph.max_nodes), loop::NodeSample{});
 }
 
 LoopClosure::~LoopClosure() = default;

@@ -4,6 +4,7 @@
 #include <functional>
 
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/resident_memory.hpp"
 #include "vifusion/mapfile/map_file_writer.hpp"
 
 namespace vifusion::slam {
@@ -63,8 +64,9 @@ MapSaveReport writeSections(const std::string& path, SlamMode mode, const RigCal
 }  // namespace
 
 void MapSnapshot::reserve(std::uint32_t surfel_capacity, std::size_t frames) {
-  surfels.reserve(surfel_capacity);
-  trajectory.reserve(frames);
+  // A full map's worth, resident from start-up rather than page by page as the map grows (resident_memory.hpp).
+  reserveResident(surfels, surfel_capacity, map::Surfel{});
+  reserveResident(trajectory, frames, mapfile::StampedPose{});
 }
 
 MapSaveReport saveMap(Slam& slam, const MapSaveInputs& inputs, const std::string& path) {

@@ -3,6 +3,7 @@
 #include <thread>
 
 #include "vifusion/config/daemon_config.hpp"
+#include "vifusion/core/resident_memory.hpp"
 #include "vifusion/core/time.hpp"
 #include "vifusion/gpu/gpu_context.hpp"
 #include "vifusion/map/surfel_ply.hpp"
@@ -13,8 +14,8 @@ namespace vifusion::daemon {
 SlamWorker::SlamWorker(slam::Slam& pipeline, const map::MapOptions& map_options, const SlamWorkerOptions& options,
                        SharedState& state)
     : pipeline_(pipeline), map_options_(map_options), options_(options), state_(state) {
-  trajectory_.reserve(options.expected_frames);
-  if (options.imu != nullptr) states_.reserve(options.expected_frames);
+  reserveResident(trajectory_, options.expected_frames, mapfile::StampedPose{});
+  if (options.imu != nullptr) reserveResident(states_, options.expected_frames, eval::StateRecord{});
 }
 
 void SlamWorker::recordImu(std::span<const ImuSample> imu, std::int64_t t_ns) {

@@ -43,8 +43,10 @@ class LoopedReplay final : public DatasetReader {
       if (pass_ + 1 == passes_) return false;
       ++pass_;
       delivered_in_pass_ = 0;
-      later_ = open_();  // once a pass: the recording's own index, read again
-      current_ = later_.get();
+      if (!current_->rewind()) {  // a recording read as a stream: its own index, read again
+        later_ = open_();
+        current_ = later_.get();
+      }
     }
     ++delivered_in_pass_;  // a frame that cannot be read is passed all the same
     if (!current_->nextFrame(frame)) {
@@ -74,7 +76,7 @@ class LoopedReplay final : public DatasetReader {
   RecordingOpener open_;
   std::size_t passes_;
   std::unique_ptr<DatasetReader> first_;  ///< the first pass, kept for what the source says of itself
-  std::unique_ptr<DatasetReader> later_;  ///< the pass now read, after the first
+  std::unique_ptr<DatasetReader> later_;  ///< the pass now read, where the first could not rewind
   DatasetReader* current_;
   std::size_t frames_per_pass_ = 0;
   std::int64_t pass_shift_ns_ = 0;

@@ -19,6 +19,7 @@ class RecalibratedReader final : public DatasetReader {
   std::size_t frameCount() const override { return recording_->frameCount(); }
   bool live() const override { return recording_->live(); }
   bool nextFrame(RgbdFrame& frame) override { return recording_->nextFrame(frame); }
+  bool rewind() override { return recording_->rewind(); }
   std::span<const ImuSample> imu() const override { return recording_->imu(); }
   std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override {
     return recording_->listedFrameTimeNs(index);

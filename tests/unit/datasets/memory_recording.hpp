@@ -21,7 +21,8 @@ inline constexpr std::int64_t kStartNs = 5 * kNsPerSecond;
 
 class MemoryRecording final : public DatasetReader {
  public:
-  explicit MemoryRecording(std::size_t frames, bool lists_times = true) : frames_(frames), lists_times_(lists_times) {
+  explicit MemoryRecording(std::size_t frames, bool lists_times = true, bool rewindable = false)
+      : frames_(frames), lists_times_(lists_times), rewindable_(rewindable) {
     calibration_.camera.width = 4;
     calibration_.camera.height = 3;
     const std::int64_t end_ns = kStartNs + static_cast<std::int64_t>(frames) * kFramePeriodNs;
@@ -43,6 +44,11 @@ class MemoryRecording final : public DatasetReader {
     ++next_;
     return true;
   }
+  bool rewind() override {
+    if (!rewindable_) return false;
+    next_ = 0;
+    return true;
+  }
   std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override {
     if (!lists_times_ || index >= frames_) return std::nullopt;
     return timeOf(index);
@@ -55,6 +61,7 @@ class MemoryRecording final : public DatasetReader {
  private:
   std::size_t frames_;
   bool lists_times_;
+  bool rewindable_;
   std::size_t next_ = 0;
   RigCalibration calibration_;
   std::vector<ImuSample> imu_;

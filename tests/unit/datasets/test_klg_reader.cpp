@@ -64,6 +64,12 @@ TEST_F(KlgReaderTest, DecodesRawFramesExactly) {
   EXPECT_EQ(frame.index, 1);
   EXPECT_TRUE(holdsPattern(frame, 1));
   EXPECT_FALSE(reader.nextFrame(frame));
+  // Rewound (a looped replay's seam), it delivers the log again from its first frame.
+  ASSERT_TRUE(reader.rewind());
+  ASSERT_TRUE(reader.nextFrame(frame));
+  EXPECT_EQ(frame.index, 0);
+  EXPECT_EQ(frame.t_ns, 1'000'000'000);
+  EXPECT_TRUE(holdsPattern(frame, 0));
 }
 
 TEST_F(KlgReaderTest, ZlibDepthRoundTripsAndJpegAndEmptyColourDecode) {

@@ -45,6 +45,25 @@ TEST(LoopedReplay, EveryPassRepeatsTheFramesLaterSoTimeKeepsIncreasing) {
   EXPECT_NE(reader->describe().find("replayed 3 times"), std::string::npos);
 }
 
+TEST(LoopedReplay, ARecordingThatRewindsIsOpenedOnce) {
+  int opened = 0;
+  const auto reader = loopedReplay(
+      [&] {
+        ++opened;
+        return std::make_unique<MemoryRecording>(5, true, true);
+      },
+      3);
+  RgbdFrame frame;
+  for (std::size_t i = 0; i < 15; ++i) {
+    ASSERT_TRUE(reader->nextFrame(frame)) << i;
+    EXPECT_EQ(frame.index, static_cast<std::int64_t>(i));
+    EXPECT_EQ(frame.depth(0, 0), 1000 + i % 5) << "frame " << i << " is not its pass's frame " << i % 5;
+    EXPECT_EQ(frame.t_ns, reader->listedFrameTimeNs(i));
+  }
+  EXPECT_FALSE(reader->nextFrame(frame));
+  EXPECT_EQ(opened, 1);  // rewound at each seam: nothing read or allocated again
+}
+
 TEST(LoopedReplay, OnePassIsTheRecordingItself) {
   const auto reader = loopedReplay([] { return std::make_unique<MemoryRecording>(4); }, 1);
   EXPECT_EQ(reader->frameCount(), 4u);

@@ -24,7 +24,8 @@ Eigen::Matrix4d readMatrixForTest(const std::filesystem::path& path) {
 }
 
 TEST(SevenScenesReader, ReadsRealFifty) {
-  const std::unique_ptr<DatasetReader> reader = openDataset("7scenes:" + (vifusion::test::dataDir() / "7scenes-50").string());
+  const std::unique_ptr<DatasetReader> reader =
+      openDataset("7scenes:" + (vifusion::test::dataDir() / "7scenes-50").string());
   ASSERT_EQ(reader->frameCount(), 50u);
   const PinholeCamera& camera = reader->calibration().camera;
   EXPECT_EQ(camera.fx, 585.0);
@@ -60,6 +61,12 @@ TEST(SevenScenesReader, ReadsRealFifty) {
   while (reader->nextFrame(frame)) ++delivered;
   EXPECT_EQ(delivered, 50);
   EXPECT_EQ(frame.t_ns, 199 * 1'000'000'000LL / 30);
+  // Rewound (a looped replay's seam), the folder is delivered again from frame-000150.
+  ASSERT_TRUE(reader->rewind());
+  ASSERT_TRUE(reader->nextFrame(frame));
+  EXPECT_EQ(frame.index, 0);
+  EXPECT_EQ(frame.t_ns, 5'000'000'000);
+  EXPECT_EQ(frame.depth(0, 0), depth.at<std::uint16_t>(0, 0) == 65535 ? 0 : depth.at<std::uint16_t>(0, 0));
 }
 
 class SevenScenesFixture : public ::testing::Test {
@@ -96,7 +103,8 @@ TEST_F(SevenScenesFixture, DecodesFramesAndMapsInvalidDepthToZero) {
 
 TEST_F(SevenScenesFixture, MissingDepthIsAnError) {
   std::filesystem::remove(tmp_ / "frame-000001.depth.png");
-  expectError([&] { SevenScenesReader reader(tmp_.path()); }, "frame-000001.color.png: missing file 'frame-000001.depth.png'");
+  expectError([&] { SevenScenesReader reader(tmp_.path()); },
+              "frame-000001.color.png: missing file 'frame-000001.depth.png'");
 }
 
 TEST_F(SevenScenesFixture, MissingPoseIsAnError) {
@@ -106,17 +114,20 @@ TEST_F(SevenScenesFixture, MissingPoseIsAnError) {
 
 TEST_F(SevenScenesFixture, NaNInPoseIsAnError) {
   writeText(tmp_ / "frame-000001.pose.txt", "1 0 0 0\n0 1 0 nan\n0 0 1 0\n0 0 0 1\n");
-  expectError([&] { SevenScenesReader reader(tmp_.path()); }, "frame-000001.pose.txt line 2: column 'm24' is not a number: 'nan'");
+  expectError([&] { SevenScenesReader reader(tmp_.path()); },
+              "frame-000001.pose.txt line 2: column 'm24' is not a number: 'nan'");
 }
 
 TEST_F(SevenScenesFixture, NonRotationPoseIsAnError) {
   writeText(tmp_ / "frame-000000.pose.txt", "2 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
-  expectError([&] { SevenScenesReader reader(tmp_.path()); }, "frame-000000.pose.txt: rotation block is not a rotation matrix");
+  expectError([&] { SevenScenesReader reader(tmp_.path()); },
+              "frame-000000.pose.txt: rotation block is not a rotation matrix");
 }
 
 TEST_F(SevenScenesFixture, MissingIntrinsicsColumnIsAnError) {
   writeText(tmp_ / "camera-intrinsics.txt", "585 0 320\n0 585\n0 0 1\n");
-  expectError([&] { SevenScenesReader reader(tmp_.path()); }, "camera-intrinsics.txt line 2: expected 3 columns, found 2");
+  expectError([&] { SevenScenesReader reader(tmp_.path()); },
+              "camera-intrinsics.txt line 2: expected 3 columns, found 2");
 }
 
 TEST_F(SevenScenesFixture, TruncatedDepthIsAnError) {

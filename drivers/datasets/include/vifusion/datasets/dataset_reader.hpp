@@ -46,6 +46,11 @@ class DatasetReader {
   /// source has then moved past that frame, so the next call reads the one after (a caller may skip it).
   virtual bool nextFrame(RgbdFrame& frame) = 0;
 
+  /// Goes back to the first frame, so that nextFrame() delivers the sequence again, keeping everything already
+  /// read (the lists, the IMU, the ground truth): a looped replay then allocates nothing at its seams.
+  /// @return false where the source cannot (live sources, recordings read as a stream); open it afresh instead.
+  virtual bool rewind() { return false; }
+
   /// The time a recorded source lists for its frame `index` (0-based, in nextFrame() order), known even when
   /// the frame cannot be read; nullopt where the source lists none (live sources, recordings).
   virtual std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const {

@@ -34,6 +34,10 @@ class IclNuimReader final : public DatasetReader {
   std::size_t frameCount() const override;
   std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override;
   bool nextFrame(RgbdFrame& frame) override;
+  bool rewind() override {
+    next_ = 0;
+    return true;
+  }
   std::span<const StampedPose> groundTruth() const override { return ground_truth_; }
   std::string describe() const override;
 

@@ -46,6 +46,10 @@ class KlgReader final : public DatasetReader {
   }
   /// @throws vifusion::Error for corrupt zlib depth or JPEG colour, naming the frame.
   bool nextFrame(RgbdFrame& frame) override;
+  bool rewind() override {
+    next_ = 0;
+    return true;
+  }
   std::string describe() const override;
 
  private:

@@ -17,7 +17,8 @@ namespace vifusion::datasets {
 using RecordingOpener = std::function<std::unique_ptr<DatasetReader>()>;
 
 /// `passes` replays of what `open` opens (≥ 1; 1 is the recording itself). The IMU stream of all passes is built
-/// once here (passes × the recording's samples); each later pass reopens the recording once, at its first frame.
+/// once here (passes × the recording's samples); each later pass rewinds the recording (DatasetReader::rewind) or,
+/// where it cannot, reopens it at its first frame.
 /// @throws vifusion::Error naming the recording when passes < 1, or it is live, has fewer than 2 frames or lists
 /// no frame times (its span is needed before the first pass ends).
 std::unique_ptr<DatasetReader> loopedReplay(const RecordingOpener& open, std::size_t passes);

@@ -32,6 +32,10 @@ class VifusionDatasetReader final : public DatasetReader {
   std::size_t frameCount() const override;
   std::optional<std::int64_t> listedFrameTimeNs(std::size_t index) const override;
   bool nextFrame(RgbdFrame& frame) override;
+  bool rewind() override {
+    next_ = 0;
+    return true;
+  }
   std::span<const ImuSample> imu() const override { return imu_; }
   std::span<const std::string> skippedImuRows() const override { return skipped_imu_rows_; }
   std::span<const StampedPose> groundTruth() const override { return ground_truth_; }

@@ -49,14 +49,14 @@ void generateSim(const std::string& preset, const std::filesystem::path& dir) {
 }  // namespace
 
 #ifdef VIFUSION_WITH_ZR300
-OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
-  return openSource(config, inertial, nullptr);
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial, const datasets::FaultPlan& faults) {
+  return openSource(config, inertial, faults, nullptr);
 }
 
-OpenedSource openSource(const config::DaemonConfig& config, bool inertial,
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial, const datasets::FaultPlan& faults,
                         std::unique_ptr<zr300::Zr300Backend> backend) {
 #else
-OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial, const datasets::FaultPlan& faults) {
 #endif
   OpenedSource opened;
   const std::string& source = config.source;
@@ -106,7 +106,6 @@ OpenedSource openSource(const config::DaemonConfig& config, bool inertial) {
   };
   opened.reader =
       config.replay_loops > 1 ? datasets::loopedReplay(open, static_cast<std::size_t>(config.replay_loops)) : open();
-  const datasets::FaultPlan faults = datasets::parseFaultPlan(config.inject, "inject");
   if (!faults.empty()) opened.reader = datasets::withFaults(std::move(opened.reader), faults);
   // A frame or IMU sample whose time does not increase is passed over and counted like an unreadable one.
   opened.reader = datasets::withIncreasingTimes(std::move(opened.reader));

@@ -131,10 +131,9 @@ int serve(const config::DaemonConfig& config) {
   slam_options.map.capacity = static_cast<std::uint32_t>(config.map_capacity);  // validate() bounded it
   slam_options.mapping = config.mapping;
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;
-  std::optional<std::size_t> lose_device_at;  // `inject`'s device-lost@K
+  datasets::FaultPlan faults;  // config `inject`, parsed once: a typo is a configuration error
   try {
-    const datasets::FaultPlan faults = datasets::parseFaultPlan(config.inject, "inject");
-    lose_device_at = faults.deviceLostFrame();
+    faults = datasets::parseFaultPlan(config.inject, "inject");
   } catch (const std::exception& error) {
     logLine(LogLevel::Error, "%s", error.what());
     return config::kExitConfig;
@@ -142,9 +141,9 @@ int serve(const config::DaemonConfig& config) {
   OpenedSource opened;
   try {
 #ifdef VIFUSION_WITH_ZR300
-    opened = openSource(config, inertial, std::move(backend));
+    opened = openSource(config, inertial, faults, std::move(backend));
 #else
-    opened = openSource(config, inertial);
+    opened = openSource(config, inertial, faults);
 #endif
   } catch (const std::exception& error) {
     logLine(LogLevel::Error, "cannot open source '%s': %s", config.source.c_str(), error.what());
@@ -243,7 +242,7 @@ int serve(const config::DaemonConfig& config) {
   worker_options.mode = slam_options.mode;
   worker_options.calibration = &source->calibration();
   worker_options.gpu = context.get();
-  worker_options.lose_device_at_frame = lose_device_at;
+  worker_options.lose_device_at_frame = faults.deviceLostFrame();
   SlamWorker worker(*pipeline, slam_options.map, worker_options, state);
 
   notifier.status("waiting for the first frame");

@@ -12,6 +12,7 @@
 #include "vifusion/core/imu_feed.hpp"
 #include "vifusion/daemon/shared_state.hpp"
 #include "vifusion/datasets/dataset_reader.hpp"
+#include "vifusion/datasets/fault_injection.hpp"
 #ifdef VIFUSION_WITH_ZR300
 #include "vifusion/zr300/zr300_backend.hpp"
 #endif
@@ -30,12 +31,13 @@ struct OpenedSource {
   std::function<std::string()> problem;
 };
 
-/// `inertial`: the mode needs the IMU (the live camera then streams its motion module).
+/// `inertial`: the mode needs the IMU (the live camera then streams its motion module). `faults`: config `inject`,
+/// parsed by the caller (a typo there is a configuration error), applied to a recorded source.
 /// Throws vifusion::Error saying what failed (generation, the dataset's own error, discovery's message).
-OpenedSource openSource(const config::DaemonConfig& config, bool inertial);
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial, const datasets::FaultPlan& faults);
 #ifdef VIFUSION_WITH_ZR300
 /// The same with the live camera reached through `backend` (null: the real devices).
-OpenedSource openSource(const config::DaemonConfig& config, bool inertial,
+OpenedSource openSource(const config::DaemonConfig& config, bool inertial, const datasets::FaultPlan& faults,
                         std::unique_ptr<zr300::Zr300Backend> backend);
 #endif
 

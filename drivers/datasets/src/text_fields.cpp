@@ -126,13 +126,7 @@ std::string formatMs(std::int64_t dt_ns) {
 }
 
 void requireIncreasing(std::int64_t previous_t_ns, std::int64_t t_ns, const std::string& prefix) {
-  if (t_ns < previous_t_ns) {
-    // Unsigned, because two arbitrary int64_t stamps can be further apart than int64_t holds.
-    const std::uint64_t back_ns = static_cast<std::uint64_t>(previous_t_ns) - static_cast<std::uint64_t>(t_ns);
-    std::ostringstream back;
-    back << static_cast<double>(back_ns) / static_cast<double>(kNsPerMillisecond) << " ms";
-    throw Error(prefix + "timestamp goes backwards by " + back.str());
-  }
+  if (t_ns < previous_t_ns) throw Error(prefix + "timestamp goes backwards by " + formatMs(previous_t_ns - t_ns));
   if (t_ns == previous_t_ns) throw Error(prefix + "timestamp repeats the previous one");
 }
 

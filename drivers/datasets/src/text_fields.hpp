@@ -50,6 +50,7 @@ double parseFinite(std::string_view text, const std::string& prefix, std::string
 
 /// Throws "<prefix>timestamp goes backwards by X ms" or "<prefix>timestamp repeats the previous one"
 /// unless t_ns > previous_t_ns. Every stream here is keyed by time, so equal stamps are ambiguous.
+/// Both stamps come from readers that bound them to ±kMaxFileStampNs, so their difference fits in int64_t.
 void requireIncreasing(std::int64_t previous_t_ns, std::int64_t t_ns, const std::string& prefix);
 
 /// "33.333 ms": a duration as a person reading an error thinks of it.

@@ -8,88 +8,20 @@ The kill moments are drawn from a fixed seed over the whole of a run, the final 
 the GPU lost mid-run (`inject: device-lost@60`) stops vifusiond with exit 4 (systemd's Restart=on-failure restarts
 it), the 60 poses before it and the last periodic map save written; the restarted service loads that map and publishes.
 """
-import json
 import os
 import random
-import re
 import shutil
 import signal
 import subprocess
 import sys
 import time
 
+from output_checks import check_directory
 from service_harness import Echo, dds_domain_and_partition, fail, main, start, stop
 
 BIN, SIM, WORK, DDS_CONFIG, CASE = sys.argv[1:6]
 KILLS = 20
 PUBLISH_AGAIN_S = 10.0
-PLY_TYPE_BYTES = {"char": 1, "uchar": 1, "short": 2, "ushort": 2, "int": 4, "uint": 4, "float": 4, "double": 8}
-
-
-def check_text_table(path, separator):
-    """Every row has the header's number of fields, and the file ends with a newline."""
-    with open(path) as f:
-        text = f.read()
-    if not text.endswith("\n"):
-        return "does not end with a newline"
-    lines = [line for line in text.splitlines() if line]
-    header = next((line for line in lines if line.startswith("#")), None)
-    rows = [line for line in lines if not line.startswith("#")]
-    width = len(re.split(separator, header.lstrip("#").strip())) if header else len(re.split(separator, rows[0]))
-    for number, row in enumerate(rows):
-        if len(re.split(separator, row.strip())) != width:
-            return f"row {number} has {len(re.split(separator, row.strip()))} fields, the header {width}"
-    return None
-
-
-def check_ply(path):
-    """The binary body holds exactly the vertices the header promises."""
-    with open(path, "rb") as f:
-        data = f.read()
-    end = data.find(b"end_header\n")
-    if not data.startswith(b"ply\n") or end < 0:
-        return "no PLY header"
-    header = data[:end].decode()
-    count = int(re.search(r"element vertex (\d+)", header).group(1))
-    stride = sum(PLY_TYPE_BYTES[t] for t in re.findall(r"property (\w+) \w+", header))
-    body = len(data) - end - len("end_header\n")
-    return None if body == count * stride else f"{body} bytes of vertices, the header promises {count} × {stride}"
-
-
-def check_map_file(path):
-    result = subprocess.run([f"{BIN}/vifusion", "map", "info", path], capture_output=True, text=True)
-    return None if result.returncode == 0 else result.stderr.strip()
-
-
-def check_json(path):
-    try:
-        with open(path) as f:
-            json.load(f)
-    except ValueError as error:
-        return str(error)
-    return None
-
-
-CHECKS = {"trajectory.txt": lambda p: check_text_table(p, r"\s+"), "frames.csv": lambda p: check_text_table(p, ","),
-          "states.csv": lambda p: check_text_table(p, ","), "report.json": check_json, "map.ply": check_ply,
-          "map.vifmap": check_map_file}
-
-
-def check_directory(out, known, after):
-    """Every file is one of `known` outputs (or, after a kill between a link and its rename, a complete
-    '<output>.tmp') and passes its check. Returns the outputs present."""
-    present = []
-    for name in sorted(os.listdir(out)):
-        base = name[:-len(".tmp")] if name.endswith(".tmp") else name
-        if base not in known:
-            fail(f"{after}: unexpected file {name} in {out}")
-        problem = CHECKS[base](os.path.join(out, name))
-        if problem:
-            fail(f"{after}: {name} is partial or corrupt: {problem}")
-        present.append(name)
-    return present
-
-
 def restart_on_map_file(command, domain, partition, after):
     """Starts `command` again with map_file_required true (what the earlier run left must load) and returns the
     seconds until it published its first status; fails past PUBLISH_AGAIN_S."""
@@ -119,14 +51,14 @@ def run_case():
     known = set(os.listdir(out))
     if not {"trajectory.txt", "frames.csv", "report.json", "map.ply", "map.vifmap"} <= known:
         fail(f"the complete run wrote {sorted(known)}")
-    check_directory(out, known, "the complete run")
+    check_directory(out, known, "the complete run", BIN)
     rng = random.Random(22)
     for kill in range(KILLS):
         process = start(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         time.sleep(rng.uniform(0.0, 1.1 * whole_s))
         process.send_signal(signal.SIGKILL)
         process.wait()
-        check_directory(out, known, f"kill {kill} (exit {process.returncode})")
+        check_directory(out, known, f"kill {kill} (exit {process.returncode})", BIN)
     print(f"vifusion run: {KILLS} SIGKILLs over {whole_s:.1f} s runs: every file complete", flush=True)
 
 
@@ -145,14 +77,14 @@ def service_case():
     if stop(daemon) != 0:
         fail(f"the first run stopped with {daemon.returncode}")
     known = {"trajectory.txt", "map.ply", "map.vifmap"}
-    check_directory(out, known, "the first run")
+    check_directory(out, known, "the first run", BIN)
     rng = random.Random(22)
     for kill in range(KILLS):
         daemon = start(command, stderr=subprocess.DEVNULL)
         time.sleep(rng.uniform(0.0, 3.0))
         daemon.send_signal(signal.SIGKILL)
         daemon.wait()
-        check_directory(out, known, f"kill {kill}")
+        check_directory(out, known, f"kill {kill}", BIN)
     # What the kills left is loaded again (map_file_required stays false only so that a first start may create
     # it): the service comes back and publishes.
     published_s = restart_on_map_file(command, domain, partition, f"{KILLS} SIGKILLs")
@@ -180,7 +112,7 @@ def device_lost_case():
         poses = [line for line in f if not line.startswith("#")]
     if len(poses) != lost_at:
         fail(f"trajectory.txt holds {len(poses)} poses, expected the {lost_at} before the loss")
-    check_directory(out, {"trajectory.txt", "states.csv", "map.vifmap"}, "the lost device")
+    check_directory(out, {"trajectory.txt", "states.csv", "map.vifmap"}, "the lost device", BIN)
     if not os.path.exists(map_file):
         fail("no periodic map save before the loss")
     # Restarted (as systemd does after exit 4), without the fault: it loads what was saved and publishes.

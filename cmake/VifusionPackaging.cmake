@@ -36,6 +36,22 @@ and inspects maps. The services are installed disabled.")
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+if(CMAKE_CROSSCOMPILING)
+  # CPack names the build machine's architecture (dpkg --print-architecture); a cross build packages the target's.
+  set(deb_architecture_aarch64 arm64)
+  set(elf_machine_aarch64 AArch64)
+  set(VIFUSION_DEB_ARCHITECTURE ${deb_architecture_${CMAKE_SYSTEM_PROCESSOR}})
+  set(VIFUSION_ELF_MACHINE ${elf_machine_${CMAKE_SYSTEM_PROCESSOR}})
+  if(NOT VIFUSION_DEB_ARCHITECTURE OR NOT CMAKE_SYSROOT)
+    message(FATAL_ERROR "the Debian package of a cross build needs a sysroot (-DVIFUSION_ARM64_SYSROOT) and a "
+                        "Debian architecture for ${CMAKE_SYSTEM_PROCESSOR}: only aarch64 (arm64) is known")
+  endif()
+  set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE ${VIFUSION_DEB_ARCHITECTURE})
+  # dpkg-shlibdeps finds the target's libraries in the sysroot, whose DEBIAN/ holds their packages' symbols and
+  # shlibs files (.ci/arm64-sysroot).
+  set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS_PRIVATE_DIRS
+      ${CMAKE_SYSROOT}/usr/lib/${VIFUSION_CROSS_TRIPLE} ${CMAKE_SYSROOT}/lib/${VIFUSION_CROSS_TRIPLE})
+endif()
 # The maintainer scripts call systemd-sysusers and systemd-tmpfiles; a Vulkan device is needed to run at all,
 # and Mesa's (lavapipe on the CPU, or the board's GPU driver) is the one every test here uses.
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "systemd")

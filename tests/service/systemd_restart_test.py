@@ -136,6 +136,8 @@ exec env container=vifusion-test {SYSTEMD} --system --unit=vifusion-test.target 
 """)
 
     cgroups_before = cgroup_directories()
+    # StateDirectory= and LogsDirectory= are made on the shared file system; removed afterwards if this test made them.
+    service_dirs = [d for d in ("/var/lib/vifusion", "/var/log/vifusion") if not os.path.exists(d)]
     unshare = start(["unshare", "--pid", "--fork", "--kill-child=SIGKILL", "--mount", "--mount-proc", "--uts", "--", "sh", inner],
                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     manager_pid = None
@@ -145,6 +147,8 @@ exec env container=vifusion-test {SYSTEMD} --system --unit=vifusion-test.target 
             os.kill(manager_pid, signal.SIGKILL)  # PID 1 of the namespace: every process in it dies with it
         unshare.wait(10)
         remove_new_cgroups(cgroups_before)
+        for directory in service_dirs:
+            shutil.rmtree(directory, ignore_errors=True)
 
     try:
         for _ in range(100):

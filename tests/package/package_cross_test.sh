@@ -12,21 +12,10 @@ shift 6
 emulator=("$@")
 deb=$work/vifusion_${version}_${arch}.deb
 
-fail() { echo "package test: $*" >&2; exit 1; }
-step() { echo "--- $*"; }
+source "$(dirname "${BASH_SOURCE[0]}")/package_common.sh"
 
-step "cpack"
-rm -rf "$work" && mkdir -p "$work"
-(cd "$build" && cpack -G DEB -B "$work" > "$work/cpack.log") || { cat "$work/cpack.log"; fail "cpack failed"; }
-[ -f "$deb" ] || fail "cpack wrote no $deb"
-dpkg-deb -I "$deb"
+build_and_lint "$build" "$work" "$deb"
 [ "$(dpkg-deb -f "$deb" Architecture)" = "$arch" ] || fail "$deb is for $(dpkg-deb -f "$deb" Architecture), not $arch"
-
-step "lintian (errors fail; warnings and notes are shown)"
-lintian_ok=yes
-lintian --fail-on error --display-info "$deb" > "$work/lintian.log" 2>&1 || lintian_ok=no
-grep -v 'root privileges is not recommended' "$work/lintian.log" || true
-[ "$lintian_ok" = yes ] || fail "lintian reports errors in $deb"
 
 step "contents"
 root=$work/root

@@ -9,8 +9,7 @@ build=$1 work=$2 version=$3 check_units=$4
 arch=$(dpkg --print-architecture)
 deb=$work/vifusion_${version}_${arch}.deb
 
-fail() { echo "package test: $*" >&2; exit 1; }
-step() { echo "--- $*"; }
+source "$(dirname "${BASH_SOURCE[0]}")/package_common.sh"
 
 if [ "$(id -u)" -ne 0 ]; then
   echo "package test: needs root (it installs and purges the package); skipped"
@@ -20,17 +19,7 @@ if dpkg-query -W -f='${Status}' vifusion 2> /dev/null | grep -q 'ok installed'; 
   fail "vifusion is already installed here; this test installs and purges it: purge it first (dpkg -P vifusion)"
 fi
 
-step "cpack"
-rm -rf "$work" && mkdir -p "$work"
-(cd "$build" && cpack -G DEB -B "$work" > "$work/cpack.log") || { cat "$work/cpack.log"; fail "cpack failed"; }
-[ -f "$deb" ] || fail "cpack wrote no $deb"
-dpkg-deb -I "$deb"
-
-step "lintian (errors fail; warnings and notes are shown)"
-lintian_ok=yes
-lintian --fail-on error --display-info "$deb" > "$work/lintian.log" 2>&1 || lintian_ok=no
-grep -v 'root privileges is not recommended' "$work/lintian.log" || true
-[ "$lintian_ok" = yes ] || fail "lintian reports errors in $deb"
+build_and_lint "$build" "$work" "$deb"
 
 # From here on a failure must not leave the package installed.
 trap 'dpkg -P vifusion > /dev/null 2>&1 || true' EXIT

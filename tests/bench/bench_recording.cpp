@@ -1,13 +1,13 @@
 // Recording while mapping (issue 18's acceptance: "Recording at 640×480 depth + colour at 30 Hz with IMU at
 // 200 Hz keeps up on 2 cores while vifusiond maps; a benchmark reports MB/s, CPU time and dropped frames; none
-// dropped"). In one process, as in vifusiond with `record: true`:
+// dropped"). In one process, as in vifusiond with `record: true` (record_while_mapping.py runs vifusiond itself):
 //   - the SLAM thread runs slam::Slam (default SlamOptions, rgbd mode, as bench_rgbd_slam) on lavapipe over the
 //     first --frames frames of sim:living_room_0 at --sizes (default 640x480), forwards then backwards so
 //     the camera path stays continuous, as fast as it goes: lavapipe's workers load both cores;
 //   - a producer thread plays the camera in real time: every 1/30 s a frame of the same sequence (depth and
 //     colour at the size, stamped with the monotonic clock), every 1/200 s an IMU sample, and with each frame
 //     a clock mapping (as `vifusion record` pushes), into a recording::Recorder with default options (chunks
-//     flushed every 100 ms, write + fdatasync per chunk);
+//     flushed on the writer's time budget, write + fdatasync per chunk);
 //   - the recorder's thread serialises and writes the MCAP file under --out_dir.
 // The recording runs --seconds of wall time once SLAM has processed its first frames; then the recorder is
 // stopped (summary written) and the file's summary is read back and its message counts compared.

@@ -1,7 +1,8 @@
 // Issue 18 acceptance, crash: `vifusion record --realtime` of a dataset killed with SIGKILL at 5 random moments.
 // Every cut file opens in vifusion's reader and in @mcap/core's stream reader (the same messages), holds the
-// dataset's frames and IMU samples as a bit-exact prefix, holds everything written up to the chunk flush
-// budget (100 ms) before the kill, and `vifusion record --recover` rewrites it complete with the same messages.
+// dataset's frames and IMU samples as a bit-exact prefix, holds everything written up to 100 ms before the
+// kill (the bound derived below from the recorder's defaults, and the issue's figure), and `vifusion record --recover`
+// rewrites it complete with the same messages.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -26,8 +27,8 @@ namespace {
 
 constexpr int kKills = 5;
 /// The kill comes 0.3–1.8 s after the recorder created its file: inside the 2 s recording (61 frames at 30 Hz,
-/// replayed in real time from then on), and after its first chunk (the recording info, written 100 ms after the
-/// file was opened). Counted from the file's creation rather than from exec, so a slow start-up (~0.1 s here,
+/// replayed in real time from then on), and after its first chunk (the recording info, written chunk_flush_ns after
+/// the file was opened). Counted from the file's creation rather than from exec, so a slow start-up (~0.1 s here,
 /// more on a loaded machine) cannot leave a file without a chunk.
 constexpr std::int64_t kMinWaitNs = 300 * kNsPerMillisecond;
 constexpr std::int64_t kMaxWaitNs = 1800 * kNsPerMillisecond;
@@ -37,21 +38,22 @@ constexpr std::int64_t kStartPollNs = kNsPerMillisecond;
 /// Writing one chunk (write() of ~1.5 MB into the page cache) and waking the recorder's thread on a loaded
 /// machine: the slack of the bound below [ns].
 constexpr std::int64_t kWriteMarginNs = 5 * kNsPerMillisecond;
+/// Issue 18: a killed recording holds everything written up to this long before the kill.
+constexpr std::int64_t kAcceptedLossNs = 100 * kNsPerMillisecond;
 
 /// What the recording, killed at kill_ns, must hold: every message whose log time is older than
 ///   kill_ns − (chunk_flush_ns + idle_wait_ns + kWriteMarginNs).
 /// Why: the recorder's thread checks after every drain, and after at most idle_wait_ns (2 ms) of sleep,
-/// whether the open chunk's first message is chunk_flush_ns (100 ms) old, and then writes it. A message
-/// missing from the file sits in the chunk open at the kill, which began at t_open > kill_ns − 100 ms − 2 ms −
+/// whether the open chunk's first message is chunk_flush_ns (50 ms) old, and then writes it. A message
+/// missing from the file sits in the chunk open at the kill, which began at t_open > kill_ns − 50 ms − 2 ms −
 /// the write itself (else it would have been written). So every message logged before that is in the file.
 ///
 /// The file cannot show the messages it lacks, so the test checks the newest one it holds: the recorder gets
 /// its messages in bursts, one frame with its IMU samples every frame period (a recorded source hands each
 /// frame the samples up to it; a live IMU would push every 5 ms), so the newest message written before t_open
 /// is at most one frame period older. Hence
-///   newest log time ≥ kill_ns − chunk_flush_ns − idle_wait_ns − kWriteMarginNs − frame period (33.3 ms).
-/// Measured over 30 kills on 2 cores: up to 135 ms of the 140 ms. Without the frame period (a 107 ms bound)
-/// about one kill in six fails (112–134 ms).
+///   newest log time ≥ kill_ns − chunk_flush_ns − idle_wait_ns − kWriteMarginNs − frame period (33.3 ms),
+/// 90 ms at the defaults. Measurements: tests/bench/README.md (recording).
 std::int64_t lossBoundNs() {
   return mcap::McapWriterOptions{}.chunk_flush_ns + recording::RecorderOptions{}.idle_wait_ns + kWriteMarginNs +
          datasetContents().max_frame_period_ns;
@@ -165,6 +167,7 @@ std::int64_t killAndCheck(int run, std::int64_t wait_ns) {
 TEST(RecordingCrash, SigkillAtFiveRandomMomentsKeepsAllButTheLastChunkAndRecovers) {
   std::filesystem::create_directories(kWorkDir);
   ASSERT_GE(datasetContents().frames.size(), 2u) << kDatasetDir;
+  ASSERT_LE(lossBoundNs(), kAcceptedLossNs) << "the recorder's defaults cannot keep a kill's loss within 100 ms";
   const unsigned seed = std::random_device{}();
   std::printf("random seed %u\n", seed);
   std::mt19937_64 random(seed);

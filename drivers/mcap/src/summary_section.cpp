@@ -17,8 +17,8 @@ namespace {
 constexpr std::size_t kDataEndRecordBytes = kRecordHeaderBytes + kDataEndFieldsBytes;
 /// Footer bytes the summary CRC covers: opcode, length, summary_start, summary_offset_start.
 constexpr std::size_t kFooterCrcCoveredBytes = kRecordHeaderBytes + 8 + 8;
-/// Largest summary read into memory. A ten-hour recording's is ~40 MB (one ~100-byte Chunk Index per
-/// 100 ms chunk); a Footer pointing further back is damaged, and the scan is then the better way.
+/// Largest summary read into memory. A ten-hour recording's is ~80 MB (one ~100-byte Chunk Index per
+/// 50 ms chunk); a Footer pointing further back is damaged, and the scan is then the better way.
 constexpr std::uint64_t kMaxSummaryBytes = 256 * 1024 * 1024;
 
 std::vector<std::uint8_t> readRange(const ByteSource& source, std::uint64_t offset, std::uint64_t bytes) {

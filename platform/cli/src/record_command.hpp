@@ -4,7 +4,7 @@
 // recorded source (a dataset, another recording, a sim:NAME sequence), as fast as it reads or, with
 // --realtime, at its timestamps. Ends at --duration, at the source's end, or on Ctrl-C / SIGTERM, completing
 // the file; a recording cut short anyway (SIGKILL, power loss) keeps everything up to its last chunk (at most
-// 100 ms before the cut), and `vifusion record --recover FILE` rewrites it complete.
+// 100 ms before the cut, recording/recorder.hpp), and `vifusion record --recover FILE` rewrites it complete.
 //
 // Exit codes: 0 recorded; 2 bad options or a bad recorded source; 3 the live camera or the sync line cannot be
 // opened; 6 the recording failed (disk full, storage gone: the message names the file and why; what was

@@ -19,6 +19,7 @@ TEST(McapAllocations, WritingTenThousandMessagesAfterOpenAllocatesNothing) {
   test::TempDir dir;
   McapWriterOptions options;  // fdatasync per chunk, as in the field
   options.chunk_target_bytes = 256 * 1024;
+  options.chunk_flush_ns = 100 * kNsPerMillisecond;  // the chunk counts below
   McapWriter writer(options);
   ASSERT_TRUE(writer.open(dir.file("alloc.mcap")));
   const std::uint16_t imu = writer.registerChannel("/imu", McapWriter::kNoId, "cdr");

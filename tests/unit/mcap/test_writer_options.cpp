@@ -17,7 +17,7 @@ TEST(McapWriterOptions, DefaultsAreTheDocumentedOnes) {
   const McapWriterOptions options;
   EXPECT_NO_THROW(options.validate());
   EXPECT_EQ(options.chunk_target_bytes, 4u * 1024 * 1024);
-  EXPECT_EQ(options.chunk_flush_ns, 100'000'000);
+  EXPECT_EQ(options.chunk_flush_ns, 50'000'000);
   EXPECT_EQ(options.max_message_bytes, 2u * 1024 * 1024);
   EXPECT_EQ(options.sync, SyncPolicy::kFdatasyncPerChunk);
   EXPECT_EQ(options.profile, "ros2");

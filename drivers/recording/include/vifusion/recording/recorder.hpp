@@ -2,8 +2,10 @@
 // Recorder: records while something else runs — `vifusion record` on a live camera, vifusiond while it
 // maps (`record: true`). Producers on their own threads hand over frames, IMU samples, sync edges and
 // clock mappings through fixed-capacity rings; the recorder's thread serialises them into a RecordingFile
-// and writes chunks on the time budget (chunk_flush_ns, 100 ms by default), so a recording killed at any
-// moment loses at most that much.
+// and writes chunks on the time budget (chunk_flush_ns, 50 ms by default). What a kill can cost: an item
+// handed over at t is in the file by t + chunk_flush_ns + idle_wait_ns + the write itself (a few ms), so
+// the newest item of a killed recording is at most that, plus the gap between the producers' hand-overs
+// (one frame period, 33 ms at 30 Hz), before the kill: within 100 ms at the defaults.
 //
 // A producer never waits and never allocates: push*() copies into a pre-sized ring slot and returns false
 // when the ring is full (the item is lost and counted) or the recording has ended. A write failure (disk

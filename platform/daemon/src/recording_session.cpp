@@ -1,5 +1,6 @@
 #include "vifusion/daemon/recording_session.hpp"
 
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 
@@ -53,21 +54,38 @@ void reportRecording(const recording::Recorder& recorder, bool& reported) {
   const recording::RecorderStats stats = recorder.stats();
   if (!stats.failed) return;
   reported = true;
-  logLine(LogLevel::Error, "recording stopped, mapping goes on: %s (%llu frames written before are readable)",
-          stats.error.c_str(), static_cast<unsigned long long>(stats.written.frames));
+  logLine(LogLevel::Error,
+          "recording stopped, mapping goes on: %s (the %llu messages of its complete chunks stay "
+          "readable)",
+          stats.error.c_str(), static_cast<unsigned long long>(stats.messages_in_chunks));
+}
+
+void appendRecordingStatus(const recording::Recorder& recorder, char* text, std::size_t size) {
+  const std::size_t length = std::strlen(text);
+  if (length + 1 >= size) return;
+  const recording::RecorderStats stats = recorder.stats();
+  if (stats.failed) {
+    std::snprintf(text + length, size - length, ", recording stopped (failed)");
+    return;
+  }
+  std::snprintf(text + length, size - length, ", recording: %llu frames, %llu lost",
+                static_cast<unsigned long long>(stats.written.frames),
+                static_cast<unsigned long long>(stats.frames_dropped + stats.imu_dropped + stats.edges_dropped +
+                                                stats.motion_dropped + stats.clocks_dropped));
 }
 
 void closeRecording(recording::Recorder& recorder) {
   const bool ok = recorder.stop();
   const recording::RecorderStats stats = recorder.stats();
   logLine(ok ? LogLevel::Info : LogLevel::Error,
-          "recording %s: %llu frames, %llu IMU samples, %llu sync edges, %.1f MB; lost to full rings: %llu frames, "
-          "%llu IMU samples%s%s",
+          "recording %s: %llu frames, %llu IMU samples, %llu sync edges, %.1f MB; not recorded (full rings, or after a "
+          "failure): %llu frames, "
+          "%llu IMU samples; recorder thread CPU %.3f s%s%s",
           recorder.path().c_str(), static_cast<unsigned long long>(stats.written.frames),
           static_cast<unsigned long long>(stats.written.imu_samples),
           static_cast<unsigned long long>(stats.written.sync_edges), static_cast<double>(stats.bytes_written) / 1e6,
           static_cast<unsigned long long>(stats.frames_dropped), static_cast<unsigned long long>(stats.imu_dropped),
-          ok ? "" : "; failed: ", ok ? "" : stats.error.c_str());
+          nsToSeconds(stats.thread_cpu_ns), ok ? "" : "; failed: ", ok ? "" : stats.error.c_str());
 }
 
 }  // namespace vifusion::daemon

@@ -331,7 +331,7 @@ int serve(const config::DaemonConfig& config) {
       next_status_ns = now_ns + kNsPerSecond;
     }
     if (now_ns >= next_status_ns) {
-      char text[200];
+      char text[256];
       const int length = std::snprintf(text, sizeof(text), "%s: %llu frames, %llu lost, camera ring overruns %llu",
                                        trackingText(state, ready), static_cast<unsigned long long>(frames),
                                        static_cast<unsigned long long>(state.lost_frames.load()),
@@ -342,6 +342,7 @@ int serve(const config::DaemonConfig& config) {
                       static_cast<unsigned long long>(state.imu_carried_frames.load()),
                       static_cast<unsigned long long>(state.imu_issue_frames.load()));
       }
+      if (recorder) appendRecordingStatus(*recorder, text, sizeof(text));
       notifier.status(text);
       next_status_ns = now_ns + kNsPerSecond;
     }

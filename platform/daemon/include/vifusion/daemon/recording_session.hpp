@@ -4,6 +4,7 @@
 // the SLAM thread the IMU samples the frames take, the main thread the sync line's edges. A failed recording
 // (disk full, storage gone) is logged once and ends; mapping goes on.
 
+#include <cstddef>
 #include <filesystem>
 #include <memory>
 
@@ -20,6 +21,10 @@ std::unique_ptr<recording::Recorder> openRecording(const config::DaemonConfig& c
 
 /// Logs the recording's failure once (main thread); `reported` remembers that it was.
 void reportRecording(const recording::Recorder& recorder, bool& reported);
+
+/// Appends the recording's state to systemd's status line `text` (NUL-terminated, `size` bytes in all):
+/// ", recording: N frames, M lost" while it runs, ", recording stopped (failed)" once it failed.
+void appendRecordingStatus(const recording::Recorder& recorder, char* text, std::size_t size);
 
 /// Stops the recording and logs what it holds.
 void closeRecording(recording::Recorder& recorder);

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "vifusion/slam/dense_tracker.hpp"
+
 namespace vifusion {
 namespace {
 
@@ -365,6 +367,43 @@ TEST(RunReport, ACoveredCameraRelocalisesOnTheMappedRevisit) {
   EXPECT_LE(covered_m, kMaxErrorRatio * uncovered_m)
       << "after the gap: covered " << 1e3 * covered_m << " mm, uncovered " << 1e3 * uncovered_m << " mm";
   expectFramesCsvMatchesTheReport(VIFUSION_REVISIT_COVERED_RUN_DIR, false);
+}
+
+// Issue 15: one pass of sim:long at 160×120 in rgbd, open loop (integration.run_rgbd.long). Where the camera faces
+// a blank wall, neither the ICP (one plane) nor the photometric term (no texture) sees the motion along it, and the
+// pose used to slide while every frame passed the tracking tests — to 5 m/s against 0.3 m/s true, then 579 frames
+// lost in a row continuing that velocity. Slam now loses a frame that moved faster than the platform can
+// (TrackerOptions::max_speed_mps) and drops the slide's velocity, and relocalisation takes over. Asserted: no tracked
+// pose moved faster than that since the frame it was tracked from (the last tracked one; a relocalised frame starts
+// afresh); no loss longer than 3 s; the pass stays within the room's size in ATE. The slide below the bound remains
+// (tests/bench/README.md, soak section), so the ATE is far from issue 15's goals: that is the next step.
+TEST(RunReport, RgbdLosesAPoseSlidingFasterThanThePlatformInsteadOfTrackingIt) {
+  constexpr double kLongestLossS = 3.0;  // before: 19 s
+  constexpr double kRoomSizeM = 2.0;     // before: 20.7 m
+  const nlohmann::json r = report(VIFUSION_LONG_RGBD_RUN_DIR);
+  const FrameTable table = frameTable(VIFUSION_LONG_RGBD_RUN_DIR);
+  const std::vector<Eigen::Isometry3d> poses = tumPoses(std::string(VIFUSION_LONG_RGBD_RUN_DIR) + "/trajectory.txt");
+  ASSERT_EQ(poses.size(), table.rows.size());
+  const double max_speed_mps = slam::TrackerOptions{}.max_speed_mps;
+  double fastest_mps = 0.0;
+  std::size_t reference = 0;
+  for (std::size_t i = 1; i < table.rows.size(); ++i) {
+    if (table.at(i, "tracking") != 0.0) continue;
+    if (table.at(i, "relocalised") == 0.0) {
+      const double dt_s = (table.at(i, "t_ns") - table.at(reference, "t_ns")) * 1e-9;
+      const double speed_mps = (poses[i].translation() - poses[reference].translation()).norm() / dt_s;
+      fastest_mps = std::max(fastest_mps, speed_mps);
+      EXPECT_LE(speed_mps, max_speed_mps * (1.0 + 1e-6)) << "row " << i << " tracked from row " << reference;
+    }
+    reference = i;
+  }
+  const double frame_period_s = (table.at(1, "t_ns") - table.at(0, "t_ns")) * 1e-9;
+  const double longest_loss_s = r.at("tracking_states").at("lost").at("longest_run").get<double>() * frame_period_s;
+  std::printf("  fastest tracked pose %.2f m/s (bound %.1f), %d frames lost, longest %.2f s, ATE %.3f m\n", fastest_mps,
+              max_speed_mps, r.at("lost_frames").get<int>(), longest_loss_s, r.at("ate_rmse_m").get<double>());
+  EXPECT_LE(longest_loss_s, kLongestLossS);
+  EXPECT_LT(r.at("ate_rmse_m").get<double>(), kRoomSizeM);
+  expectFramesCsvMatchesTheReport(VIFUSION_LONG_RGBD_RUN_DIR, false);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include "tracker_dense_terms.hpp"
 #include "vifusion/core/error.hpp"
+#include "vifusion/core/time.hpp"
 #include "vifusion/estimator/gravity_initialisation.hpp"
 #include "vifusion/imu/sample_window.hpp"
 #include "vifusion/slam/model_reference.hpp"
@@ -213,6 +214,12 @@ TrackingResult better(const TrackingResult& a, const TrackingResult& b) {
 
 }  // namespace
 
+bool Slam::fasterThanThePlatform(const SE3d& T_reference_current, std::int64_t t_ns) const {
+  if (reference_t_ns_ == kNoReferenceStamp || t_ns <= reference_t_ns_) return false;
+  return T_reference_current.translation().norm() >
+         tracker_->options().max_speed_mps * nsToSeconds(t_ns - reference_t_ns_);
+}
+
 TrackingResult Slam::trackMapThenFill(const SE3d& T_reference_current_guess) {
   if (reference_fill_->coverage().fills(fill_.max_coverage)) {
     return tracker_->track(T_reference_current_guess, ReferencePixels::kMapAndFill);
@@ -241,6 +248,13 @@ void Slam::trackRgbd(FrameResult& result) {
       T_previous_current_ = SE3d();  // the motion before the loss says nothing about the motion now
       result.relocalised = true;
     }
+  }
+  if (!tracking.lost && !result.relocalised && fasterThanThePlatform(tracking.T_ref_cur, result.t_ns)) {
+    // A pose sliding along what nothing observes, not the camera: lost, and the slide's velocity with it, so
+    // that neither the next guess nor this frame's reported pose continues it.
+    tracking.lost = true;
+    T_previous_current_ = SE3d();
+    T_reference_guess_ = SE3d();
   }
   result.used_reference_fill = !tracking.lost && tracking.reference == ReferencePixels::kMapAndFill;
   result.tracking = tracking.lost ? TrackingState::kLost : TrackingState::kTracked;
@@ -454,7 +468,10 @@ FrameResult Slam::process(const RgbdFrame& frame, std::span<const ImuSample> imu
     if (estimator_->initialised()) restart_state_.reset();
   }
   // The next frame's reference is rendered here, except while RGB-D tracking is lost (trackRgbd).
-  if (rgbd_lost_frames_ == 0) T_W_reference_ = result.T_W_C;
+  if (rgbd_lost_frames_ == 0) {
+    T_W_reference_ = result.T_W_C;
+    reference_t_ns_ = frame.t_ns;
+  }
 
   const auto map_start = std::chrono::steady_clock::now();
   const SE3d T_C_W = result.T_W_C.inverse();

@@ -84,6 +84,14 @@ struct TrackerOptions {
   /// fixes of issue 4). Such a frame keeps the guess and is not fused, and the velocity is reset, so
   /// the run-away stops instead of corrupting the map (ElasticFusion: a 0.3 m jump is rejected).
   double max_motion_innovation_m = 0.05;
+  /// RGB-D tracking is lost when the pose moved faster than this since the reference frame [m/s]: the
+  /// platform's top speed with margin — a hand-held camera at a brisk walk or an indoor robot stays below
+  /// 2 m/s. The bound above limits only each frame's change of the constant-velocity guess, so a pose
+  /// sliding along a direction nothing observes (RGB-D facing a blank wall: one plane for the ICP, no
+  /// texture for the photometric term) can gain up to that much velocity every frame while every frame
+  /// passes; this stops the slide, and the frame lost to it drops the velocity. Applied by Slam, which knows
+  /// the frames' stamps. > 0.
+  double max_speed_mps = 3.0;
   /// A place guess (TrackingGuess::kPlace: a recognised keyframe's pose, relocaliser.hpp) may be corrected by
   /// at most this much [m], [rad]; the motion prior's σ are these too, so the prior holds only the directions
   /// no dense term sees, over the whole accepted range. ElasticFusion refuses a 0.3 m jump, and dense

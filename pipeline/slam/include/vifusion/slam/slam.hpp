@@ -235,6 +235,9 @@ class Slam {
   /// The dense tracker from one guess: with the fill-in when the map covers too little of the reference view,
   /// else against the map's pixels and, when that fails, with the fill-in too.
   TrackingResult trackMapThenFill(const SE3d& T_reference_current_guess);
+  /// Whether T_reference_current, estimated for the frame at t_ns, moves the camera faster than
+  /// TrackerOptions::max_speed_mps since the reference frame (false while no frame's stamp is the reference).
+  bool fasterThanThePlatform(const SE3d& T_reference_current, std::int64_t t_ns) const;
   /// For a frame the other guesses lost: looks it up among the keyframes and tracks it against the map rendered
   /// at the nearest one's pose (a place guess). True, with `tracking` relative to that pose and T_W_place set,
   /// when that passes the tracker's tests and the relocaliser's inlier test; the reference view is then the
@@ -313,6 +316,9 @@ class Slam {
   /// The reference view's camera: the previous frame's pose, or during a run of lost RGB-D frames the last
   /// tracked one (the map's view the camera is most likely to come back to).
   SE3d T_W_reference_;
+  static constexpr std::int64_t kNoReferenceStamp = INT64_MIN;
+  /// The stamp of the frame T_W_reference_ was tracked at [ns]; kNoReferenceStamp before the first frame.
+  std::int64_t reference_t_ns_ = kNoReferenceStamp;
   SE3d T_W_O_;                ///< FrameResult::T_W_O
   SE3d T_previous_current_;   ///< last motion between two tracked frames: the constant-velocity guess
   int rgbd_lost_frames_ = 0;  ///< RGB-D tracking: lost frames since the last tracked one

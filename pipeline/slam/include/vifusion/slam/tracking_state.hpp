@@ -3,7 +3,8 @@
 //
 //  - kTracked: the dense RGB-D terms registered the frame to the map. rgbd: DenseTracker::track passed its
 //    tests (≥ 6 inliers at every level, a regular system, an innovation below max_motion_innovation_m and
-//    the health test: ≥ min_inlier_fraction of the pixels that land on the model are ICP inliers). rgbdi
+//    the health test: ≥ min_inlier_fraction of the pixels that land on the model are ICP inliers), and Slam's:
+//    the camera moved no faster than max_speed_mps since the reference frame. rgbdi
 //    and gyro: the two-state estimator used them (usable at every level, the same health test, and not
 //    refused by the gate on vision_chi2, the χ² by which they pull the state from the IMU and the prior).
 //    The pose is registered to the map, so the frame is fused at full weight.

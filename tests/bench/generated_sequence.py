@@ -5,15 +5,20 @@ import shutil
 import subprocess
 
 
-def generate(bin_dir, preset, width, height, duration, directory):
-    """`vifusion sim` into `directory` unless a complete sequence is there (written beside it, then renamed)."""
-    if (directory / "calibration.yaml").exists():
+def generate(bin_dir, preset, width, height, duration, target):
+    """`vifusion sim` into `target` — a dataset directory, or a recording when it ends in .mcap — unless a complete
+    one is there (written beside it, then renamed)."""
+    recording = target.suffix == ".mcap"
+    if (target.exists() if recording else (target / "calibration.yaml").exists()):
         return
-    partial = directory.with_name(directory.name + ".partial")
-    shutil.rmtree(partial, ignore_errors=True)
+    partial = target.with_name(target.stem + ".partial" + target.suffix)
+    if recording:
+        partial.unlink(missing_ok=True)
+    else:
+        shutil.rmtree(partial, ignore_errors=True)
     subprocess.run([f"{bin_dir}/vifusion", "sim", "--preset", preset, "--width", str(width), "--height", str(height),
                     "--duration", str(duration), "--out", str(partial)], check=True, stdout=subprocess.DEVNULL)
-    partial.rename(directory)
+    partial.rename(target)
 
 
 def frames_in(sequence):

@@ -28,27 +28,14 @@ import time
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "service"))
 from service_harness import dds_domain_and_partition, fail, start  # noqa: E402
 
-from generated_sequence import sequence_parser  # noqa: E402
+from generated_sequence import generate, sequence_parser  # noqa: E402
 
 NODE_DIR = pathlib.Path(__file__).resolve().parent.parent / "node"
 CLOSING_LINE = re.compile(
     r"recording (?P<path>\S+): (?P<frames>\d+) frames, (?P<imu>\d+) IMU samples, (?P<edges>\d+) sync edges, "
-    r"(?P<mb>[\d.]+) MB; not recorded \(full rings, or after a failure\): (?P<frames_lost>\d+) frames, (?P<imu_lost>\d+) IMU samples; "
-    r"recorder thread CPU (?P<recorder_cpu_s>[\d.]+) s")
+    r"(?P<mb>[\d.]+) MB; not recorded \(full rings, or after a failure\): (?P<frames_lost>\d+) frames, "
+    r"(?P<imu_lost>\d+) IMU samples; recorder thread CPU (?P<recorder_cpu_s>[\d.]+) s")
 EXIT_LINE = re.compile(r"exiting with code (\d+) after (\d+) frames \((\d+) lost\)")
-
-
-def generated_recording(bin_dir, args, data_dir):
-    """`vifusion sim --out NAME.mcap` unless that recording is there (written beside it, then renamed)."""
-    path = data_dir / f"{args.preset}_{args.width}x{args.height}_{args.duration:g}s.mcap"
-    if not path.exists():
-        partial = path.with_name(path.name + ".partial.mcap")
-        partial.unlink(missing_ok=True)
-        subprocess.run([f"{bin_dir}/vifusion", "sim", "--preset", args.preset, "--width", str(args.width),
-                        "--height", str(args.height), "--duration", str(args.duration), "--out", str(partial)],
-                       check=True, stdout=subprocess.DEVNULL)
-        partial.rename(path)
-    return path
 
 
 def decoded(node, path):
@@ -81,7 +68,8 @@ def main():
     out = pathlib.Path(args.out).resolve()
     data_dir = pathlib.Path(args.data_dir).resolve() if args.data_dir else out.parent
     data_dir.mkdir(parents=True, exist_ok=True)
-    source = generated_recording(args.bin, args, data_dir)
+    source = data_dir / f"{args.preset}_{args.width}x{args.height}_{args.duration:g}s.mcap"
+    generate(args.bin, args.preset, args.width, args.height, args.duration, source)
     run_dir = out.parent / f"record_while_mapping_{args.mode}"
     shutil.rmtree(run_dir, ignore_errors=True)
     run_dir.mkdir(parents=True)

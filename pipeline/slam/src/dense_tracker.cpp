@@ -27,6 +27,7 @@ void TrackerOptions::validate() const {
   }
   if (!(max_motion_innovation_m > 0.0)) throw Error("tracker option 'max_motion_innovation_m' must be > 0");
   if (!(max_speed_mps > 0.0)) throw Error("tracker option 'max_speed_mps' must be > 0");
+  if (!(max_continued_motion_s > 0.0)) throw Error("tracker option 'max_continued_motion_s' must be > 0");
   if (!(min_recovered_inlier_share > 0.0 && min_recovered_inlier_share <= 1.0)) {
     throw Error("tracker option 'min_recovered_inlier_share' must be in (0, 1]");
   }

@@ -220,6 +220,11 @@ bool Slam::fasterThanThePlatform(const SE3d& T_reference_current, std::int64_t t
          tracker_->options().max_speed_mps * nsToSeconds(t_ns - reference_t_ns_);
 }
 
+bool Slam::beyondTheContinuedMotion(std::int64_t t_ns) const {
+  return reference_t_ns_ != kNoReferenceStamp &&
+         nsToSeconds(t_ns - reference_t_ns_) > tracker_->options().max_continued_motion_s;
+}
+
 TrackingResult Slam::trackMapThenFill(const SE3d& T_reference_current_guess) {
   if (reference_fill_->coverage().fills(fill_.max_coverage)) {
     return tracker_->track(T_reference_current_guess, ReferencePixels::kMapAndFill);
@@ -230,6 +235,8 @@ TrackingResult Slam::trackMapThenFill(const SE3d& T_reference_current_guess) {
 }
 
 void Slam::trackRgbd(FrameResult& result) {
+  // A loss longer than the recovery window: the lost frames hold the last guess.
+  if (rgbd_lost_frames_ > 0 && beyondTheContinuedMotion(result.t_ns)) T_previous_current_ = SE3d();
   // The motion since the previous frame as it was, its rotation pre-aligned to the previous frame's images.
   const SE3d motion = tracker_->prealignRotation(T_previous_current_);
   TrackingResult tracking;

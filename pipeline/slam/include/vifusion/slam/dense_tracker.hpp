@@ -92,6 +92,11 @@ struct TrackerOptions {
   /// passes; this stops the slide, and the frame lost to it drops the velocity. Applied by Slam, which knows
   /// the frames' stamps. > 0.
   double max_speed_mps = 3.0;
+  /// After a lost frame the lost frames' pose and the recovery's "kept moving" guess continue the last tracked
+  /// motion for at most this long [s], then hold: issue 15's recovery window (rgbd recovers within 1 s), and
+  /// about as long as a hand-held or robot camera keeps one velocity; continuing it further only carries the
+  /// guess away from the map and from the camera. Applied by Slam. > 0.
+  double max_continued_motion_s = 1.0;
   /// A place guess (TrackingGuess::kPlace: a recognised keyframe's pose, relocaliser.hpp) may be corrected by
   /// at most this much [m], [rad]; the motion prior's σ are these too, so the prior holds only the directions
   /// no dense term sees, over the whole accepted range. ElasticFusion refuses a 0.3 m jump, and dense

@@ -238,6 +238,8 @@ class Slam {
   /// Whether T_reference_current, estimated for the frame at t_ns, moves the camera faster than
   /// TrackerOptions::max_speed_mps since the reference frame (false while no frame's stamp is the reference).
   bool fasterThanThePlatform(const SE3d& T_reference_current, std::int64_t t_ns) const;
+  /// Whether the frame at t_ns comes more than TrackerOptions::max_continued_motion_s after the reference frame.
+  bool beyondTheContinuedMotion(std::int64_t t_ns) const;
   /// For a frame the other guesses lost: looks it up among the keyframes and tracks it against the map rendered
   /// at the nearest one's pose (a place guess). True, with `tracking` relative to that pose and T_W_place set,
   /// when that passes the tracker's tests and the relocaliser's inlier test; the reference view is then the

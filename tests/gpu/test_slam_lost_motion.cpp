@@ -2,7 +2,7 @@
 // the camera is covered after a stretch of the rendered pan, so every later frame is lost. Within the recovery
 // window the lost frames' pose continues the last tracked motion (the "kept moving" guess a short loss recovers
 // from); after it the pose holds, instead of carrying a velocity nobody measures on for as long as the loss
-// lasts (sim:white_wall at 640×480 before: lost frames 4.6 m from the camera after 8 s).
+// lasts (what sim:white_wall's lost frames did at 640×480: tests/bench/README.md, issue 15's table re-run).
 
 #include <gtest/gtest.h>
 

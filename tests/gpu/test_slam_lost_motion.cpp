@@ -39,11 +39,12 @@ TEST_F(GpuTest, LostFramesContinueTheMotionOnlyForTheRecoveryWindowThenHold) {
 
   constexpr std::size_t kTrackedFrames = 20;
   const auto lost_frames = static_cast<std::size_t>(std::ceil(2.0 * window_s * 1e9 / kFramePeriodNs));
+  const RgbdFrame dark = covered(pan.frames[kTrackedFrames - 1]);
   RgbdFrame frame;
   SE3d T_W_last_tracked;
   std::vector<SE3d> lost_poses;
   for (std::size_t i = 0; i < kTrackedFrames + lost_frames; ++i) {
-    frame = i < kTrackedFrames ? pan.frames[i] : covered(pan.frames[kTrackedFrames - 1]);
+    frame = i < kTrackedFrames ? pan.frames[i] : dark;
     frame.t_ns = static_cast<std::int64_t>(i) * kFramePeriodNs;
     frame.index = static_cast<std::int64_t>(i);
     const slam::FrameResult result = slam.process(frame);

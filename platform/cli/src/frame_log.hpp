@@ -32,6 +32,8 @@
 //   closure_error_mm      an attempt that reached the deformation: the mean constraint error after the solve [mm]
 //   closure_inliers       the registration's ICP inliers between the active and inactive renderings (at level 0,
 //                         or at the level where it found too little overlap)
+//   closure_mean_chi2     the registration's mean χ² per inlier at its solution, the residual test's figure
+//                         (RegistrationOptions::max_mean_chi2; 0 unless the registration got that far)
 //   closure_sigma_mm, closure_sigma_deg   the registration's largest position and rotation σ (the covariance
 //                         test's figures; 0 when it stopped for overlap)
 //   closure_ms            wall time of the attempt [ms]
@@ -93,6 +95,7 @@ class FrameLog {
     int closure_refusal = 0;
     double closure_error_mm = 0.0;
     double closure_inliers = 0.0;
+    double closure_mean_chi2 = 0.0;
     double closure_sigma_mm = 0.0;
     double closure_sigma_deg = 0.0;
     double closure_ms = 0.0;

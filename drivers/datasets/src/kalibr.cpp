@@ -41,9 +41,9 @@ constexpr std::initializer_list<const char*> kImuKeys = {
     "update_rate", "rostopic", "model", "T_i_b", "time_offset",
     // ours, not Kalibr's: the rest of ImuNoiseParams, so our datasets round-trip
     "gyroscope_saturation", "accelerometer_saturation", "gyroscope_bias_prior", "accelerometer_bias_prior"};
-constexpr std::initializer_list<const char*> kDepthNoiseKeys = {"disparity_sigma_px", "focal_baseline_px_m",
-                                                                "quantisation_m",     "lateral_sigma_px",
-                                                                "correlation_px",     "pixels_per_sample"};
+constexpr std::initializer_list<const char*> kDepthNoiseKeys = {
+    "disparity_sigma_px", "focal_baseline_px_m",           "quantisation_m", "lateral_sigma_px", "correlation_px",
+    "pixels_per_sample",  "inverse_depth_bias_sigma_per_m"};
 constexpr std::initializer_list<const char*> kIntensityNoiseKeys = {"sigma", "lateral_sigma_px", "correlation_px",
                                                                     "pixels_per_sample"};
 
@@ -326,7 +326,8 @@ double readBounded(const Document& doc, const YAML::Node& map, const char* conte
 
 /// depth_noise: and intensity_noise: (core/camera_noise_model.hpp), written together by `vifusion calib noise`.
 /// Bounds: a positive f·b; σ_d ≤ 10 px, q ≤ 0.1 m and σ_I ≤ 255 are far beyond any working sensor (a
-/// larger value is a unit mix-up); lateral σ ≤ 10 px; correlation within a 64-pixel window.
+/// larger value is a unit mix-up); lateral σ ≤ 10 px; correlation within a 64-pixel window; the bias's σ within
+/// the bound on the bias itself.
 CameraNoiseModel readNoise(const Document& doc, const YAML::Node& depth_map, const YAML::Node& intensity_map) {
   constexpr double kMaxDisparitySigma_px = 10.0;
   constexpr double kMaxQuantisation_m = 0.1;
@@ -351,6 +352,8 @@ CameraNoiseModel readNoise(const Document& doc, const YAML::Node& depth_map, con
       readBounded(doc, depth_map, depth, "correlation_px", 0.0, kMaxCorrelation_px, false, 0.0);
   noise.depth.pixels_per_sample =
       readBounded(doc, depth_map, depth, "pixels_per_sample", 1.0, kMaxPixelsPerSample, false, 1.0);
+  noise.depth.inverse_depth_bias_sigma_per_m =
+      readBounded(doc, depth_map, depth, "inverse_depth_bias_sigma_per_m", 0.0, kMaxInverseDepthBias_per_m, false, 0.0);
   const char* intensity = "intensity_noise";
   noise.intensity.sigma = readBounded(doc, intensity_map, intensity, "sigma", 0.0, kMaxGrey, true, 0.0);
   noise.intensity.lateral_sigma_px =
@@ -489,6 +492,7 @@ std::string calibrationYamlText(const RigCalibration& calibration) {
     out << YAML::Key << "lateral_sigma_px" << YAML::Value << depth.lateral_sigma_px;
     out << YAML::Key << "correlation_px" << YAML::Value << depth.correlation_px;
     out << YAML::Key << "pixels_per_sample" << YAML::Value << depth.pixels_per_sample;
+    out << YAML::Key << "inverse_depth_bias_sigma_per_m" << YAML::Value << depth.inverse_depth_bias_sigma_per_m;
     out << YAML::EndMap;
     const IntensityNoiseModel& intensity = calibration.noise->intensity;
     out << YAML::Key << "intensity_noise" << YAML::Comment("grey level, 0-255 scale") << YAML::Value << YAML::BeginMap;

@@ -121,6 +121,7 @@ int runCalibNoise(const CalibNoiseOptions& options) {
   std::printf("%s\n", report.dump().c_str());
   if (!options.out.empty()) {
     calibration.noise = model;
+    calibration.noise->depth.inverse_depth_bias_sigma_per_m = estimate.remaining_inverse_depth_bias_sigma_per_m;
     calibration.inverse_depth_bias_per_m = bias_per_m;
     datasets::writeCalibrationYaml(options.out, calibration);
   }

@@ -3,7 +3,7 @@
 // and the inverse-depth bias (the disparity offset of RigCalibration::inverse_depth_bias_per_m) from a dataset
 // with ground-truth poses (calib/noise_estimator.hpp), prints them and the per-depth table as one JSON object,
 // and optionally writes the dataset's calibration.yaml with the measured `depth_noise:`, `intensity_noise:` and
-// `inverse_depth_bias_per_m`.
+// `inverse_depth_bias_per_m` (its standard error in depth_noise: inverse_depth_bias_sigma_per_m).
 
 #include <string>
 

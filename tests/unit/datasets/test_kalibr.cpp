@@ -181,7 +181,8 @@ TEST(Kalibr, MeasuredNoiseRoundTripsAndIsOptional) {
                 .quantisation_m = 0.011,
                 .lateral_sigma_px = 0.57,
                 .correlation_px = 0.86,
-                .pixels_per_sample = 12.8},
+                .pixels_per_sample = 12.8,
+                .inverse_depth_bias_sigma_per_m = 2.17e-4},
       .intensity = {.sigma = 2.86, .lateral_sigma_px = 0.4, .correlation_px = 0.69, .pixels_per_sample = 4.1}};
   writeCalibrationYaml(tmp / "calibration.yaml", calibration);
   const RigCalibration back = readCalibrationYaml(tmp / "calibration.yaml");
@@ -192,6 +193,7 @@ TEST(Kalibr, MeasuredNoiseRoundTripsAndIsOptional) {
   EXPECT_EQ(back.noise->depth.lateral_sigma_px, 0.57);
   EXPECT_EQ(back.noise->depth.correlation_px, 0.86);
   EXPECT_EQ(back.noise->depth.pixels_per_sample, 12.8);
+  EXPECT_EQ(back.noise->depth.inverse_depth_bias_sigma_per_m, 2.17e-4);
   EXPECT_EQ(back.noise->intensity.sigma, 2.86);
   EXPECT_EQ(back.noise->intensity.lateral_sigma_px, 0.4);
   EXPECT_EQ(back.noise->intensity.correlation_px, 0.69);
@@ -213,6 +215,15 @@ TEST(Kalibr, MeasuredNoiseTyposAndImplausibleValuesAreErrors) {
               "unknown key 'disparity_sigma' in depth_noise");
   expectError([&] { readCalibrationYamlText(with("disparity_sigma_px: 0.05", "disparity_sigma_px: 50"), "c.yaml"); },
               "'disparity_sigma_px' in depth_noise must be in [0.000000, 10.000000], got 50");
+  expectError(
+      [&] {
+        readCalibrationYamlText(with("inverse_depth_bias_sigma_per_m: 0", "inverse_depth_bias_sigma_per_m: -1e-4"),
+                                "c.yaml");
+      },
+      "'inverse_depth_bias_sigma_per_m' in depth_noise must be in [0.000000, 0.100000], got -1e-4");
+  const RigCalibration without_bias_sigma =
+      readCalibrationYamlText(with("  inverse_depth_bias_sigma_per_m: 0\n", ""), "calibration written before the key");
+  EXPECT_EQ(without_bias_sigma.noise->depth.inverse_depth_bias_sigma_per_m, 0.0) << "absent: no systematic bound";
   expectError([&] { readCalibrationYamlText(with("  sigma: 2.7", "  sigma: -1"), "c.yaml"); },
               "'sigma' in intensity_noise must be in");
   expectError([&] { readCalibrationYamlText(with("focal_baseline_px_m: 36", "focal_baseline_px_m: .nan"), "c.yaml"); },

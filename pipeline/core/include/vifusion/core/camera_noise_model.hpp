@@ -25,6 +25,10 @@ struct DepthNoiseModel {
   double lateral_sigma_px = 0.0;     ///< σ_px of where a pixel samples the surface [px], ≥ 0
   double correlation_px = 0.0;       ///< lag [px] at which the noise's correlation falls to 1/e, ≥ 0
   double pixels_per_sample = 1.0;    ///< Σ_h ρ(h): pixels per independent measurement, ≥ 1
+  /// σ_b: the standard error of the rig's inverse-depth bias correction (calibration.yaml's
+  /// inverse_depth_bias_per_m) [1/m], ≥ 0; 0 when unknown. Not noise: one error shared by every frame, which
+  /// moves a point seen from z by σ_b·z², so surfaces fused from different distances disagree by it.
+  double inverse_depth_bias_sigma_per_m = 0.0;
 
   /// σ of the noise on 1/z [1/m].
   double inverseDepthSigma() const { return disparity_sigma_px / focal_baseline_px_m; }

@@ -19,7 +19,7 @@
 // binding 4: reference vertices   vec4[w·h]   reference camera frame [m]
 // binding 5: params               PhotometricParams
 // binding 6: partials             float[groups · NE_STRIDE]
-// Specialization: 0 = workgroup size (≥ 29); 3 = contiguous runs (1) or grid stride (0).
+// Specialization: 0 = workgroup size (≥ 31); 3 = contiguous runs (1) or grid stride (0).
 // CPU reference: vifusion::tracking::photometricNormalEquationsCpu.
 #extension GL_GOOGLE_include_directive : require
 

@@ -5,7 +5,7 @@
 // binding 0: rows      vec4[2·row_count]: (J0, J1, J2, J3), (J4, J5, r, w); w = 0 skips a row
 // binding 1: partials  float[groups · NE_STRIDE]
 //
-// Specialization: 0 = workgroup size (≥ 29); 3 = contiguous runs (1) or grid stride (0).
+// Specialization: 0 = workgroup size (≥ 31); 3 = contiguous runs (1) or grid stride (0).
 
 layout(local_size_x_id = 0) in;
 

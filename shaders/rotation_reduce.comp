@@ -20,7 +20,7 @@
 // binding 2: previous gradients   vec2[w·h]   (∂I/∂u, ∂I/∂v)
 // binding 3: params               RotationParams
 // binding 4: partials             float[groups · NE_STRIDE]
-// Specialization: 0 = workgroup size (≥ 29); 3 = contiguous runs (1) or grid stride (0).
+// Specialization: 0 = workgroup size (≥ 31); 3 = contiguous runs (1) or grid stride (0).
 // CPU reference: vifusion::tracking::rotationNormalEquationsCpu.
 #extension GL_GOOGLE_include_directive : require
 

@@ -10,15 +10,17 @@ NormalEquations6& NormalEquations6::operator+=(const NormalEquations6& other) {
   weighted_squared_residual += other.weighted_squared_residual;
   inliers += other.inliers;
   candidates += other.candidates;
+  weighted_squared_bound += other.weighted_squared_bound;
   return *this;
 }
 
-void NormalEquations6::addRow(const Eigen::Matrix<double, 6, 1>& J, double r, double w) {
+void NormalEquations6::addRow(const Eigen::Matrix<double, 6, 1>& J, double r, double w, double e) {
   if (!(w > 0.0)) return;
   H.noalias() += w * J * J.transpose();
   b += w * r * J;
   weighted_squared_residual += w * r * r;
   inliers += 1.0;
+  weighted_squared_bound += w * e * e;
 }
 
 void NormalEquations6::addPartials(std::span<const float> partials, uint32_t groups) {
@@ -39,6 +41,7 @@ void NormalEquations6::addPartials(std::span<const float> partials, uint32_t gro
   weighted_squared_residual += sums[27];
   inliers += sums[28];
   candidates += sums[29];
+  weighted_squared_bound += sums[30];
 }
 
 }  // namespace vifusion

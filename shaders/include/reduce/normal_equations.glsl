@@ -8,6 +8,8 @@
 //   [28]     number of rows with w > 0 (inliers)
 //   [29]     number of candidates: items with valid input, whether or not a gate accepted them
 //            (the denominator of tracking-health ratios)
+//   [30]     Σ w e², e ≥ 0 a bound on the row's systematic error in r's units (neAccumulateBounded;
+//            0 for rows offered by neAccumulate)
 // The workgroup then reduces them to one partial of NE_STRIDE floats at partials[group * NE_STRIDE];
 // the host sums the partials in double, so fp32 only ever adds one workgroup's share.
 //
@@ -16,13 +18,14 @@
 //   layout(std430, binding = N) writeonly buffer Partials { float partials[]; };
 // defines VIFUSION_SUBGROUP_REDUCE to 1 (subgroup arithmetic) or 0 (shared memory only), and after
 // including it defines neAddItem(acc, i), which offers item i (a row, a pixel): neCountCandidate(acc)
-// when its input is valid, then at most one neAccumulate(acc, J, r, w); its main() then calls
+// when its input is valid, then at most one neAccumulate(acc, J, r, w) or neAccumulateBounded(acc, J,
+// r, w, e); its main() then calls
 // neReduceItems(count). Specialization constant 3 chooses how items are split.
 
 #ifndef VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL
 #define VIFUSION_REDUCE_NORMAL_EQUATIONS_GLSL
 
-#define NE_TERMS 30
+#define NE_TERMS 31
 #define NE_STRIDE 32
 
 // Every access to the accumulator uses a constant index, written out term by term (NE_FOR_EACH_TERM
@@ -32,7 +35,7 @@
 // photometric 26 → 12.7 ([[unroll]] hints alone did not help).
 #define NE_FOR_EACH_TERM(X)                                                                              \
   X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9) X(10) X(11) X(12) X(13) X(14) X(15) X(16) X(17) X(18) \
-  X(19) X(20) X(21) X(22) X(23) X(24) X(25) X(26) X(27) X(28) X(29)
+  X(19) X(20) X(21) X(22) X(23) X(24) X(25) X(26) X(27) X(28) X(29) X(30)
 
 #if VIFUSION_SUBGROUP_REDUCE
 #extension GL_KHR_shader_subgroup_basic : require
@@ -47,17 +50,17 @@ void neClear(out float acc[NE_TERMS]) {
 
 // The row the current item offers, held from neAccumulate until neAddItem has returned; all zero
 // when it offers none. neAddItem's gates are nested branches, and lavapipe runs branches as masked
-// code for all lanes with a select per modified value at every join: updating the 30 sums at the
-// deepest level cost 30 selects per nesting level and item; holding the row (8 values) there and
-// adding it once per item at the top of the loop costs 8 (measured at 640×480: ICP ≈ 11 → 8.7
-// CPU-ms per evaluation, photometric ≈ 11.7 → 10.7). A skipped row adds exact zeros, so the sums
+// code for all lanes with a select per modified value at every join: updating every sum at the
+// deepest level costs one select per sum, nesting level and item; holding the row (J, r, w, e) there
+// and adding it once per item at the top of the loop costs one per held value (tests/bench/README.md
+// has the measured gain). A skipped row adds exact zeros, so the sums
 // are unchanged, up to the sign of a zero sum. Each item offers at most one row.
-float ne_row_J0, ne_row_J1, ne_row_J2, ne_row_J3, ne_row_J4, ne_row_J5, ne_row_r, ne_row_w;
+float ne_row_J0, ne_row_J1, ne_row_J2, ne_row_J3, ne_row_J4, ne_row_J5, ne_row_r, ne_row_w, ne_row_e;
 float ne_row_candidate;
 
 void neCountCandidate(inout float acc[NE_TERMS]) { ne_row_candidate = 1.0; }
 
-void neAccumulate(inout float acc[NE_TERMS], float J[6], float r, float w) {
+void neAccumulateBounded(inout float acc[NE_TERMS], float J[6], float r, float w, float e) {
   if (!(w > 0.0)) return;
   ne_row_J0 = J[0];
   ne_row_J1 = J[1];
@@ -67,7 +70,10 @@ void neAccumulate(inout float acc[NE_TERMS], float J[6], float r, float w) {
   ne_row_J5 = J[5];
   ne_row_r = r;
   ne_row_w = w;
+  ne_row_e = e;
 }
+
+void neAccumulate(inout float acc[NE_TERMS], float J[6], float r, float w) { neAccumulateBounded(acc, J, r, w, 0.0); }
 
 void neClearRow() {
   ne_row_J0 = 0.0;
@@ -78,10 +84,11 @@ void neClearRow() {
   ne_row_J5 = 0.0;
   ne_row_r = 0.0;
   ne_row_w = 0.0;
+  ne_row_e = 0.0;
   ne_row_candidate = 0.0;
 }
 
-// Adds the held row: w·JᵀJ (upper triangle row by row), w·J·r, w·r², the inlier and the candidate.
+// Adds the held row: w·JᵀJ (upper triangle row by row), w·J·r, w·r², the inlier, the candidate and w·e².
 void neAddRow(inout float acc[NE_TERMS]) {
   const float w = ne_row_w, r = ne_row_r;
   const float J0 = ne_row_J0, J1 = ne_row_J1, J2 = ne_row_J2, J3 = ne_row_J3, J4 = ne_row_J4, J5 = ne_row_J5;
@@ -118,6 +125,7 @@ void neAddRow(inout float acc[NE_TERMS]) {
   acc[27] += w * r * r;
   acc[28] += w > 0.0 ? 1.0 : 0.0;
   acc[29] += ne_row_candidate;
+  acc[30] += w * ne_row_e * ne_row_e;
 }
 
 #if VIFUSION_SUBGROUP_REDUCE

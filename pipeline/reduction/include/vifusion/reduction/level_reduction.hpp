@@ -21,7 +21,7 @@ namespace vifusion {
 struct LevelReductionOptions {
   /// Partials the host sums; 0 = by device: 16 on GPUs, one per hardware thread (≥ 2) on CPU devices.
   uint32_t workgroups = 0;
-  /// ≥ 29 (one invocation per reduced term in the final step); 0 = by device: 128 on GPUs, 64 on
+  /// ≥ 31 (one invocation per reduced term in the final step); 0 = by device: 128 on GPUs, 64 on
   /// CPU devices. lavapipe runs fewer, longer invocations faster (measured at 320×240: ICP
   /// 3.1-3.7 → 2.1-2.4 CPU-ms per evaluation with 2 × 64 instead of 16 × 128; ≈ 10 % at 640×480).
   /// The grid only reassociates fp32 sums, but the bench trajectory is sensitive to that: ATE at
@@ -32,11 +32,11 @@ struct LevelReductionOptions {
 };
 
 struct LevelReductionKernel {
-  std::string name;                       ///< e.g. "icp_reduce"
+  std::string name;  ///< e.g. "icp_reduce"
   std::span<const uint32_t> subgroup_spirv;
   std::span<const uint32_t> shared_spirv;
-  uint32_t input_buffers = 0;             ///< bindings 0..n−1; then params, then partials
-  uint32_t params_bytes = 0;              ///< size of the std430 parameter struct
+  uint32_t input_buffers = 0;  ///< bindings 0..n−1; then params, then partials
+  uint32_t params_bytes = 0;   ///< size of the std430 parameter struct
 };
 
 class LevelReduction {

@@ -32,8 +32,8 @@ enum class ReductionLayout { Auto, ContiguousRuns, GridStride };
 
 /// The kernel variant every reducing kernel (rows, ICP, photometric) uses on a device.
 struct ReductionChoice {
-  bool subgroups = false;        ///< subgroup arithmetic (else a shared-memory tree)
-  bool contiguous_runs = true;   ///< each invocation walks a run of rows (else a grid stride)
+  bool subgroups = false;       ///< subgroup arithmetic (else a shared-memory tree)
+  bool contiguous_runs = true;  ///< each invocation walks a run of rows (else a grid stride)
 };
 /// Auto picks subgroups when the device has them and contiguous runs on CPU devices (lavapipe),
 /// where streaming through memory beats coalescing. Throws if Subgroup is forced but unsupported.
@@ -42,7 +42,7 @@ ReductionChoice chooseReduction(const gpu::GpuFeatures& features, ReductionVaria
 struct RowReducerOptions {
   uint32_t max_rows = 640 * 480;  ///< capacity of the row buffer
   uint32_t workgroups = 16;       ///< partials the host sums (≥ 1)
-  uint32_t workgroup_size = 128;  ///< invocations per workgroup (≥ 29)
+  uint32_t workgroup_size = 128;  ///< invocations per workgroup (≥ 31)
   ReductionVariant variant = ReductionVariant::Auto;
   ReductionLayout layout = ReductionLayout::Auto;
 

@@ -2,7 +2,9 @@
 // map_predict_attributes: the resolve pass of model prediction, one invocation per level-0 pixel.
 // The winning surfel of the pixel (map_predict_id) is splatted again at this pixel alone and
 // writes the camera-frame model maps the tracking terms read:
-//   vertex  (x, y, z, 1) [m], the ray–plane intersection
+//   vertex  (x, y, z, z_obs) [m], the ray–plane intersection and the depth the surfel was observed from
+//           (observationDepth: what model registration's systematic-error bound reads; > 0, so w ≠ 0
+//           still marks a model pixel where reference_fill writes 0)
 //   normal  (n, 1), the surfel normal rotated into the camera and flipped to face it (the
 //           convention of the preprocessing normal maps)
 //   intensity  0.299·R + 0.587·G + 0.114·B of the surfel colour [0..255]
@@ -71,7 +73,7 @@ void main() {
   const vec3 rgb = unpackRgb8(floatBitsToUint(surfel.colour_times.x));
   precise float grey = (0.299 * rgb.r + 0.587 * rgb.g) + 0.114 * rgb.b;
 
-  vertices[index] = vec4(q_C, 1.0);
+  vertices[index] = vec4(q_C, observationDepth(surfel, p.view));
   normals[index] = vec4(n_C, 1.0);
   intensity[index] = grey;
 }

@@ -22,7 +22,7 @@
 //   0  state     readonly  map state: [0, surfel_count) bounds the loop
 //   1  params    readonly  PredictionParams of the inactive prediction (view, frame, selection)
 //   2  surfels             the surfel array that prediction rendered (include/map/surfel.glsl)
-//   3  vertices  readonly  its level-0 vertex map, vec4 (x, y, z, 1) camera frame [m], vec4(0) = no model
+//   3  vertices  readonly  its level-0 vertex map, vec4 (x, y, z, z_obs) camera frame [m], vec4(0) = no model
 //   4  normals   readonly  its level-0 normal map, vec4 (n, 1), vec4(0) = no model
 //   5  gates     readonly  ReactivateGates: τ² [m²], cos(max angle), grazing_normal_z, capacity
 //   6  count               MarkedCount: indices appended (host-cleared to 0; may pass capacity: the excess is

@@ -7,7 +7,7 @@
 namespace vifusion::map {
 namespace {
 
-// CameraSurfel, footprintOf and splatPixel of prediction.glsl, operation for operation.
+// CameraSurfel, observationDepth, footprintOf and splatPixel of prediction.glsl, operation for operation.
 struct CameraSurfel {
   Eigen::Vector3f p_C;
   Eigen::Vector3f n_C;
@@ -32,6 +32,12 @@ CameraSurfel toCamera(const Surfel& surfel, const MapView& view) {
   const float radius_m = std::max(surfel.normal_radius.w(), min_radius_m);
   s.radius2_m2 = radius_m * radius_m;
   return s;
+}
+
+float observationDepth(const Surfel& surfel, const MapView& view) {
+  constexpr float kInverseSqrt2 = 0.70710678f;  // the shader's literal
+  const float mean_focal_px = (std::abs(view.fx) + std::abs(view.fy)) * 0.5f;
+  return surfel.normal_radius.w() * mean_focal_px * kInverseSqrt2;
 }
 
 Footprint footprintOf(const CameraSurfel& s, const PredictionParams& params) {
@@ -177,7 +183,7 @@ void resolveModelCpu(std::span<const Surfel> surfels, const PredictionParams& pa
       const float n_dot_q = (s.n_C.x() * q_C.x() + s.n_C.y() * q_C.y()) + s.n_C.z() * q_C.z();
       const Eigen::Vector3f n_C = n_dot_q > 0.0f ? Eigen::Vector3f(-s.n_C) : s.n_C;
       const Eigen::Vector3f rgb = unpackRgb8(surfel.packedColour());
-      vertices(x, y) = Eigen::Vector4f(q_C.x(), q_C.y(), q_C.z(), 1.0f);
+      vertices(x, y) = Eigen::Vector4f(q_C.x(), q_C.y(), q_C.z(), observationDepth(surfel, params.view));
       normals(x, y) = Eigen::Vector4f(n_C.x(), n_C.y(), n_C.z(), 1.0f);
       intensity(x, y) = (0.299f * rgb.x() + 0.587f * rgb.y()) + 0.114f * rgb.z();
     }

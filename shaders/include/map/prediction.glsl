@@ -82,6 +82,15 @@ CameraSurfel toCamera(Surfel surfel, MapView view) {
   return s;
 }
 
+// The depth [m] a surfel was observed from, by inverting fusion's radius √2·z/f̄ (map/fusion_params.glsl's
+// measurementRadius; f̄ of the view's level-0 camera, the one the map fuses with). Fusion enlarges the radius
+// by up to 2× for slanted views, so this is the observation depth up to a factor 2 above it, never below.
+float observationDepth(Surfel surfel, MapView view) {
+  precise float mean_focal_px = (abs(view.fx) + abs(view.fy)) * 0.5;
+  precise float depth_m = surfel.normal_radius.w * mean_focal_px * 0.70710678;  // · 1/√2
+  return depth_m;
+}
+
 // Pixel box a surfel may cover, inclusive; empty when x0 > x1 or y0 > y1.
 struct Footprint {
   int x0, x1, y0, y1;

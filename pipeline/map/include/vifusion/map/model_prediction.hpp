@@ -61,7 +61,7 @@ struct PredictionOptions {
 
 /// Model maps of one pyramid level (device-local, row-major, camera frame).
 struct ModelLevelBuffers {
-  gpu::BufferId vertices;   ///< vec4 (x, y, z, 1) [m], vec4(0) = no model
+  gpu::BufferId vertices;   ///< vec4 (x, y, z, z_obs) [m] (z_obs: observed from), vec4(0) = no model
   gpu::BufferId normals;    ///< vec4 (n, 1), facing the camera, vec4(0) = no model
   gpu::BufferId intensity;  ///< float 0..255, 0 = no model
 };

@@ -80,7 +80,8 @@ bool isRenderedCpu(const Surfel& surfel, const PredictionParams& params);
 void splatModelCpu(std::span<const Surfel> surfels, const PredictionParams& params, ImageView<std::uint32_t> depth_bits,
                    ImageView<std::uint32_t> ids);
 
-/// The resolve pass: level-0 model maps in the camera frame from the splat ids.
+/// The resolve pass: level-0 model maps in the camera frame from the splat ids (vertex w: the depth the surfel
+/// was observed from, map_predict_attributes.comp).
 void resolveModelCpu(std::span<const Surfel> surfels, const PredictionParams& params,
                      ImageView<const std::uint32_t> ids, ImageView<Eigen::Vector4f> vertices,
                      ImageView<Eigen::Vector4f> normals, ImageView<float> intensity);

@@ -8,14 +8,16 @@
 // Gates: both vertices valid, ‖q − v‖ ≤ max_distance_m, ‖R·n_cur × n‖ ≤ max_normal_sin.
 // Candidates (the health ratio's denominator): pixels whose vertex lands on a valid model pixel.
 // Weight: 1/σ_z(p.z)² (Kinect-style axial depth noise) times a Huber weight on r/σ_z.
+// Systematic-error bound (term 30): e = σ_b·|p.w² − v.w²|, w the depths the two points were observed from
+// (model maps carry it, frames 1): IcpOptions::inverse_depth_bias_sigma_per_m says why.
 //
-// binding 0: current vertices  vec4[w·h]  (x, y, z, 1) camera frame [m], vec4(0) invalid
+// binding 0: current vertices  vec4[w·h]  (x, y, z, z_obs or 1) camera frame [m], vec4(0) invalid
 // binding 1: current normals   vec4[w·h]
-// binding 2: model vertices    vec4[w·h]  reference camera frame [m]
+// binding 2: model vertices    vec4[w·h]  (x, y, z, z_obs) reference camera frame [m]
 // binding 3: model normals     vec4[w·h]
 // binding 4: params            IcpParams
 // binding 5: partials          float[groups · NE_STRIDE]
-// Specialization: 0 = workgroup size (≥ 29); 3 = contiguous runs (1) or grid stride (0).
+// Specialization: 0 = workgroup size (≥ 31); 3 = contiguous runs (1) or grid stride (0).
 // CPU reference: vifusion::tracking::icpNormalEquationsCpu.
 #extension GL_GOOGLE_include_directive : require
 
@@ -65,7 +67,8 @@ void neAddItem(inout float acc[NE_TERMS], int i) {
   const float huber = normalised <= params.huber_k ? 1.0 : params.huber_k / normalised;
   const vec3 qxn = cross(q, n);
   const float J[6] = float[6](n.x, n.y, n.z, qxn.x, qxn.y, qxn.z);
-  neAccumulate(acc, J, r, huber / (sigma * sigma));
+  const float bias_lever_m2 = abs(p.w * p.w - model_v.w * model_v.w);
+  neAccumulateBounded(acc, J, r, huber / (sigma * sigma), params.inverse_depth_bias_sigma_per_m * bias_lever_m2);
 }
 
 void main() { neReduceItems(params.width * params.height); }

@@ -39,8 +39,8 @@ struct FrameMaps {
 class TwoFrameFixture {
  public:
   TwoFrameFixture(gpu::GpuContext& context, const test::SevenScenesFrame& reference,
-                  const test::SevenScenesFrame& current)
-      : context_(context) {
+                  const test::SevenScenesFrame& current, const tracking::IcpOptions& icp_options = {})
+      : context_(context), icp_options_(icp_options) {
     preprocess::PreprocessOptions options;
     options.camera = current.camera;
     stage_ = std::make_unique<preprocess::PreprocessStage>(context, plan_, options);
@@ -54,7 +54,7 @@ class TwoFrameFixture {
       icp_inputs.push_back({cur.vertices, cur.normals, ref.vertices, ref.normals});
       photometric_inputs.push_back({cur.vertices, cur.intensity, ref.intensity, ref.gradients, ref.vertices});
     }
-    icp_ = std::make_unique<tracking::IcpTerm>(context, plan_, stage_->levels());
+    icp_ = std::make_unique<tracking::IcpTerm>(context, plan_, stage_->levels(), icp_options_);
     photometric_ = std::make_unique<tracking::PhotometricTerm>(context, plan_, stage_->levels());
     rotation_ = std::make_unique<tracking::RotationTerm>(context, plan_, 1);
     std::vector<slam::ReferenceFillLevel> fill_levels;
@@ -111,7 +111,7 @@ class TwoFrameFixture {
     return tracking::icpNormalEquationsCpu(
         image<VertexPixel>(current_[level].vertices, level), image<NormalPixel>(current_[level].normals, level),
         image<VertexPixel>(reference_[level].vertices, level), image<NormalPixel>(reference_[level].normals, level),
-        tracking::IcpParams::make(T_ref_cur, camera, tracking::IcpOptions{}));
+        tracking::IcpParams::make(T_ref_cur, camera, icp_options_));
   }
 
   NormalEquations6 photometricGpu(int level, const SE3d& T_ref_cur, bool use_reference_fill = false) {
@@ -194,6 +194,7 @@ class TwoFrameFixture {
   }
 
   gpu::GpuContext& context_;
+  tracking::IcpOptions icp_options_;
   gpu::CapacityPlan plan_;
   std::unique_ptr<preprocess::PreprocessStage> stage_;
   std::unique_ptr<tracking::IcpTerm> icp_;
@@ -221,7 +222,39 @@ TEST_F(GpuTest, IcpTermMatchesItsCpuReferenceAtEveryLevel) {
       EXPECT_NEAR(gpu.inliers, cpu.inliers, 1e-3 * cpu.inliers);
       EXPECT_LT((gpu.H - cpu.H).norm() / cpu.H.norm(), 2e-3);
       EXPECT_LT((gpu.b - cpu.b).norm() / cpu.b.norm(), 2e-2);
+      EXPECT_EQ(gpu.weighted_squared_bound, 0.0) << "no systematic bound without a calibrated bias σ";
     }
+  }
+}
+
+TEST_F(GpuTest, IcpTermsSystematicErrorBoundMatchesItsCpuReference) {
+  const test::SevenScenesFrame reference = test::loadSevenScenesFrame(150);
+  const test::SevenScenesFrame current = test::loadSevenScenesFrame(155);
+  tracking::IcpOptions options;
+  options.inverse_depth_bias_sigma_per_m = 2e-4f;  // a calibrated rig's σ_b
+  TwoFrameFixture icp(context(), reference, current, options);
+  // As model registration's renderings: each vertex's w is the depth its surfel was observed from, here the
+  // reference seen from 1.5× farther than it now is and the current from where it is.
+  constexpr float kReferenceObservedFarther = 1.5f;
+  for (int l = 0; l < icp.levels(); ++l) {
+    const ImageView<VertexPixel> reference_vertices = icp.hostImage<VertexPixel>(icp.reference(l).vertices, l);
+    const ImageView<VertexPixel> current_vertices = icp.hostImage<VertexPixel>(icp.current(l).vertices, l);
+    for (std::size_t i = 0; i < reference_vertices.pixelCount(); ++i) {
+      VertexPixel& v = reference_vertices.data[i];
+      if (v.z() > 0.0f) v.w() = kReferenceObservedFarther * v.z();
+      VertexPixel& p = current_vertices.data[i];
+      if (p.z() > 0.0f) p.w() = p.z();
+    }
+  }
+  const SE3d T_ref_cur = reference.T_W_C.inverse() * current.T_W_C;
+  for (int l = 0; l < icp.levels(); ++l) {
+    SCOPED_TRACE("level " + std::to_string(l));
+    const NormalEquations6 gpu = icp.icpGpu(l, T_ref_cur);
+    const NormalEquations6 cpu = icp.icpCpu(l, T_ref_cur);
+    // Each inlier's bound e = σ_b·|(1.5 z)² − z²| = σ_b·1.25 z² > 0.
+    ASSERT_GT(cpu.weighted_squared_bound, 0.0);
+    EXPECT_NEAR(gpu.weighted_squared_bound, cpu.weighted_squared_bound, 2e-3 * cpu.weighted_squared_bound);
+    EXPECT_NEAR(gpu.inliers, cpu.inliers, 1e-3 * cpu.inliers);
   }
 }
 

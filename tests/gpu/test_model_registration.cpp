@@ -1,7 +1,8 @@
 // Local loop closure's model-to-model registration (slam/model_registration.hpp) on real 7-Scenes depth: two
 // preprocessed frames stand in for the active and inactive renderings. The same view against itself is the
 // identity and accepted; two views 5 frames apart register to the KinectFusion poses' relative motion; a
-// view against an unrelated one is refused by name; and the options' validation.
+// view against an unrelated one is refused by name; a layer off by the calibration's depth-bias error is no
+// evidence of drift once σ_b is known, while real drift stays evidence; and the options' validation.
 
 #include <gtest/gtest.h>
 
@@ -24,22 +25,24 @@ namespace {
 class RegistrationRig {
  public:
   RegistrationRig(gpu::GpuContext& context, const test::SevenScenesFrame& inactive,
-                  const test::SevenScenesFrame& active, const slam::RegistrationOptions& options = {}) {
+                  const test::SevenScenesFrame& active, const slam::RegistrationOptions& options = {},
+                  const tracking::IcpOptions& icp = {}, float inactive_observed_farther = 1.0f) {
     preprocess::PreprocessOptions preprocess_options;
     preprocess_options.camera = active.camera;
     stage_ = std::make_unique<preprocess::PreprocessStage>(context, plan_, preprocess_options);
     const int levels = stage_->levels();
     for (int l = 0; l < levels; ++l) {
       for (const char* role : {"inactive", "active"}) {
+        // Host-visible: the vertices' w is set as a rendering's below.
         const auto mirror = [&](gpu::BufferId id, const char* what) {
           return plan_.addBuffer(std::string("test.") + role + ".l" + std::to_string(l) + "." + what,
-                                 plan_.buffers()[id.index].bytes, gpu::MemoryUse::DeviceLocal);
+                                 plan_.buffers()[id.index].bytes, gpu::MemoryUse::Readback);
         };
         (role[0] == 'i' ? inactive_ : active_)
             .push_back({mirror(stage_->level(l).vertices, "vertices"), mirror(stage_->level(l).normals, "normals")});
       }
     }
-    registration_ = std::make_unique<slam::ModelRegistration>(context, plan_, levels, tracking::IcpOptions{},
+    registration_ = std::make_unique<slam::ModelRegistration>(context, plan_, levels, icp,
                                                               preprocess_options.metric.max_depth_m, options);
     arena_ = gpu::MemoryArena::create(context, plan_);
     stage_->build(*arena_);
@@ -65,6 +68,14 @@ class RegistrationRig {
       });
       stage_->upload(frame->depth_mm.view(), frame->rgb.view());
       sequence->run();
+      // A rendering's w is the depth its surfel was observed from (map_predict_attributes.comp): the frame's own
+      // depth, the inactive one's times inactive_observed_farther.
+      const float observed_farther = targets == &inactive_ ? inactive_observed_farther : 1.0f;
+      for (int l = 0; l < levels; ++l) {
+        for (Eigen::Vector4f& v : arena_->buffer((*targets)[l].vertices).hostSpan<Eigen::Vector4f>()) {
+          if (v.z() > 0.0f) v.w() = observed_farther * v.z();
+        }
+      }
     }
   }
 
@@ -174,6 +185,79 @@ TEST_F(ModelRegistrationTest, AWallOffsetAlongItsNormalIsMeasuredButNotTrustedTo
   const Eigen::Vector3d t = result.T_inactive_active.translation();
   EXPECT_NEAR(t.z(), 1e-3 * kOffsetMm, 1e-3) << "the active camera is nearer the wall";
   EXPECT_LT(t.head<2>().norm(), 1e-4) << "nothing along the wall";
+}
+
+/// The frame as a rig whose inverse-depth correction is off by `bias_per_m` sees it: 1/z_raw = 1/z + b.
+test::SevenScenesFrame withInverseDepthBias(test::SevenScenesFrame frame, double bias_per_m) {
+  for (int y = 0; y < frame.depth_mm.height(); ++y) {
+    for (int x = 0; x < frame.depth_mm.width(); ++x) {
+      const double z_m = 1e-3 * frame.depth_mm(x, y);
+      if (z_m > 0.0)
+        frame.depth_mm(x, y) = static_cast<std::uint16_t>(std::lround(1e3 * z_m / (1.0 + bias_per_m * z_m)));
+    }
+  }
+  return frame;
+}
+
+TEST_F(ModelRegistrationTest, ALayerOffByTheCalibratedDepthBiasIsNoEvidenceOfDrift) {
+  // A rig whose 1/z correction is off by b = 2σ_b: the old layer was observed from 1.5× farther than the new one,
+  // so its points moved by b·(1.5 z)² and the new ones' by b·z², and the renderings disagree by b·1.25 z²
+  // (millimetres at 1–3 m), not by drift. Without σ_b the millimetres are significant against the alignment's
+  // noise; with it the correction's χ² is at most (b/σ_b)² = 4 (Σ w e² bounds δᵀHδ; model_registration.hpp),
+  // below every min_correction_chi2 entry.
+  constexpr double kBiasSigma_per_m = 5e-4;
+  constexpr double kBias_per_m = 2.0 * kBiasSigma_per_m;
+  constexpr float kObservedFarther = 1.5f;
+  constexpr double kRelativeBias_per_m = kBias_per_m * (kObservedFarther * kObservedFarther - 1.0);
+  const test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
+  const test::SevenScenesFrame biased = withInverseDepthBias(frame, kRelativeBias_per_m);
+  slam::RegistrationResult without_sigma;
+  {
+    RegistrationRig rig(context(), biased, frame, {}, {}, kObservedFarther);
+    without_sigma = rig.align();
+  }
+  tracking::IcpOptions icp;
+  icp.inverse_depth_bias_sigma_per_m = static_cast<float>(kBiasSigma_per_m);
+  RegistrationRig rig(context(), biased, frame, {}, icp, kObservedFarther);
+  const slam::RegistrationResult with_sigma = rig.align();
+  std::printf("layer off by b = %.0e /m: correction %.2f mm / %.3f°, χ² %.1f without σ_b, %.2f with σ_b = %.0e\n",
+              kBias_per_m, 1e3 * with_sigma.correction_m, with_sigma.correction_rad * 180.0 / M_PI,
+              without_sigma.correction_chi2, with_sigma.correction_chi2, kBiasSigma_per_m);
+  const slam::RegistrationOptions defaults;
+  EXPECT_GT(without_sigma.correction_chi2, defaults.min_correction_chi2.back()) << "millimetres at sub-mm σ";
+  EXPECT_EQ(without_sigma.bias_bound, 0.0);
+  EXPECT_GT(with_sigma.bias_bound, 0.0);
+  EXPECT_LE(with_sigma.correction_chi2, 4.0);
+  EXPECT_FALSE(with_sigma.significant);
+  EXPECT_TRUE(with_sigma.accepted()) << slam::registrationVerdictName(with_sigma.verdict);
+  EXPECT_NEAR(with_sigma.correction_m, without_sigma.correction_m, 1e-9) << "σ_b judges, it does not move";
+}
+
+TEST_F(ModelRegistrationTest, LayersObservedFromTheSameDepthShareTheBias) {
+  // Both layers observed from where the camera is now: a common 1/z error moves both renderings alike, so σ_b
+  // adds nothing to the covariance.
+  tracking::IcpOptions icp;
+  icp.inverse_depth_bias_sigma_per_m = 5e-4f;
+  const test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
+  RegistrationRig rig(context(), frame, frame, {}, icp);
+  EXPECT_EQ(rig.align().bias_bound, 0.0);
+}
+
+TEST_F(ModelRegistrationTest, DriftBeyondTheCalibratedDepthBiasStaysEvidenceOfDrift) {
+  // Centimetres of motion between the two views (150 → 155), the old layer observed from 1.5× farther, against a
+  // calibrated rig's σ_b: the systematic part bounds millimetres, so the correction is still evidence of drift.
+  constexpr double kBiasSigma_per_m = 2e-4;
+  constexpr float kObservedFarther = 1.5f;
+  const test::SevenScenesFrame inactive = test::loadSevenScenesFrame(150);
+  const test::SevenScenesFrame active = test::loadSevenScenesFrame(155);
+  tracking::IcpOptions icp;
+  icp.inverse_depth_bias_sigma_per_m = static_cast<float>(kBiasSigma_per_m);
+  RegistrationRig rig(context(), inactive, active, {}, icp, kObservedFarther);
+  const slam::RegistrationResult result = rig.align();
+  std::printf("150 -> 155 with σ_b = %.0e: correction χ² %.1f (Σ w e² %.0f over %.0f inliers)\n", kBiasSigma_per_m,
+              result.correction_chi2, result.bias_bound, result.inliers);
+  EXPECT_GT(result.bias_bound, 0.0);
+  EXPECT_GT(result.correction_chi2, slam::RegistrationOptions{}.min_correction_chi2.back());
 }
 
 TEST(RegistrationOptions, ValidationNamesTheField) {

@@ -182,7 +182,10 @@ RegistrationResult ModelRegistration::align() {
   const Vector6d correction = T.log();
   result.correction_m = correction.head<3>().norm();
   result.correction_rad = correction.tail<3>().norm();
-  result.correction_chi2 = correction.dot(information * correction);
+  // Σ = (1/s + Σ w e²)·H⁺ (model_registration.hpp): the random and the systematic part share H⁺'s shape.
+  result.bias_bound = last.weighted_squared_bound;
+  const double covariance_scale = 1.0 / options_.information_scale + result.bias_bound;
+  result.correction_chi2 = correction.dot(projected.H * correction) / covariance_scale;
   if (!(result.mean_chi2 <= options_.max_mean_chi2)) {
     result.verdict = RegistrationVerdict::kResidual;
   } else if (!(result.far_sigma_m <= options_.max_pose_to_depth_sigma * far_depth_sigma_m_)) {

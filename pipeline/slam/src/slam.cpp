@@ -101,8 +101,14 @@ Slam::Slam(gpu::GpuContext& context, const RigCalibration& calibration, const Sl
   importer_ = std::make_unique<map::MapImport>(context, plan_, *map_);
   reference_fill_ = std::make_unique<ReferenceFill>(context, plan_, *tracker_);
   if (options.loop.enabled) {
-    loop_closure_ = std::make_unique<LoopClosure>(context, plan_, *map_, *prediction_, prediction, fusion, icp,
-                                                  far_depth_m_, options.loop);
+    // Registration bounds what the calibration's depth bias leaves (model_registration.hpp); tracking does not.
+    tracking::IcpOptions registration_icp = icp;
+    if (calibration.noise) {
+      registration_icp.inverse_depth_bias_sigma_per_m =
+          static_cast<float>(calibration.noise->depth.inverse_depth_bias_sigma_per_m);
+    }
+    loop_closure_ = std::make_unique<LoopClosure>(context, plan_, *map_, *prediction_, prediction, fusion,
+                                                  registration_icp, far_depth_m_, options.loop);
   }
   if (options.relocalisation.enabled) {
     relocaliser_ = std::make_unique<Relocaliser>(options.relocalisation, camera.width, camera.height);

@@ -10,7 +10,8 @@ namespace vifusion::tracking {
 NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> current_vertices,
                                        ImageView<const preprocess::NormalPixel> current_normals,
                                        ImageView<const preprocess::VertexPixel> model_vertices,
-                                       ImageView<const preprocess::NormalPixel> model_normals, const IcpParams& params) {
+                                       ImageView<const preprocess::NormalPixel> model_normals,
+                                       const IcpParams& params) {
   using Eigen::Vector3f;
   using Eigen::Vector4f;
   const RowTransform T_ref_cur(params);
@@ -44,7 +45,8 @@ NormalEquations6 icpNormalEquationsCpu(ImageView<const preprocess::VertexPixel> 
       const Vector3f qxn = q.cross(n);
       Eigen::Matrix<double, 6, 1> J;
       J << n.cast<double>(), qxn.cast<double>();
-      sum.addRow(J, r, huber / (sigma * sigma));
+      const float bias_lever_m2 = std::abs(p.w() * p.w() - model_v.w() * model_v.w());
+      sum.addRow(J, r, huber / (sigma * sigma), params.inverse_depth_bias_sigma_per_m * bias_lever_m2);
     }
   }
   return sum;

@@ -18,6 +18,9 @@ void IcpOptions::validate() const {
   positive(sigma_z_a_m, "sigma_z_a_m");
   positive(huber_k, "huber_k");
   if (!(sigma_z_b_per_m >= 0.0f)) throw Error("ICP option 'sigma_z_b_per_m' must be ≥ 0");
+  if (!(inverse_depth_bias_sigma_per_m >= 0.0f) || !std::isfinite(inverse_depth_bias_sigma_per_m)) {
+    throw Error("ICP option 'inverse_depth_bias_sigma_per_m' must be finite and ≥ 0");
+  }
   if (max_normal_angle_rad >= 1.5707963f) throw Error("ICP option 'max_normal_angle_rad' must be below π/2");
 }
 
@@ -30,6 +33,7 @@ IcpParams IcpParams::make(const SE3d& T_ref_cur, const PinholeCamera& camera, co
   params.sigma_z_b_per_m = options.sigma_z_b_per_m;
   params.sigma_z_z0_m = options.sigma_z_z0_m;
   params.huber_k = options.huber_k;
+  params.inverse_depth_bias_sigma_per_m = options.inverse_depth_bias_sigma_per_m;
   return params;
 }
 

@@ -14,6 +14,8 @@ struct IcpParams {
   float sigma_z_b_per_m;   // [1/m]
   float sigma_z_z0_m;      // [m]
   float huber_k;           // Huber threshold on the normalised residual r/σ
+  float inverse_depth_bias_sigma_per_m;  // σ_b of the calibration's uncorrected 1/z bias [1/m] (0: none)
+  float pad0, pad1, pad2;
 };
 
 #endif

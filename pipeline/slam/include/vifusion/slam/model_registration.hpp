@@ -30,10 +30,16 @@
 //                that is not is accepted all the same: along a free direction the two renderings agree
 //                whatever their offset, so reactivating the old surfaces (nothing moved) changes no geometry,
 //                while refusing left the revisit to be mapped again beside them as a second active layer.
-// Whether a correction ξ = log(T_inactive_active) is evidence of drift at all: χ² = ξᵀ Σ⁺ ξ (Σ the covariance
-// above) against min_correction_chi2 for the number of constrained directions. Below it the two models agree to
-// the alignment's own noise, and moving the map by ξ would move it by noise (LoopClosure then reactivates the
-// old surfaces without deforming anything).
+// Whether a correction ξ = log(T_inactive_active) is evidence of drift at all: χ² = ξᵀ Σ⁺ ξ against
+// min_correction_chi2 for the number of constrained directions, with Σ = (1/s + Σ w e²)·H⁺: the covariance above
+// (s the information scale) plus the systematic error the rig's calibration leaves. Each ICP row's share of it
+// is e = σ_b·|z_obs,active² − z_obs,inactive²| (tracking::IcpOptions::inverse_depth_bias_sigma_per_m: a 1/z bias
+// error moves a point observed from z_obs by b·z_obs²), and the solution's is bounded by δᵀHδ ≤ Σ w e²
+// (Cauchy–Schwarz), whatever the pattern. Surfaces fused from different distances carry different remnants of
+// the bias, and along an overlap's weak directions a few millimetres of it turn into centimetres and a degree. Below
+// the threshold the two models agree to the alignment's noise and the calibration's, and moving the map by ξ would move
+// it by them (LoopClosure then reactivates the old surfaces without deforming anything). The covariance test stays with
+// the random part: it asks whether the alignment measured the correction, not whether the sensor is unbiased.
 //
 // Lifecycle: construct (declares the ICP's buffers in the plan) → build(arena, level inputs) once → align()
 // when a closure is tried. No allocation in align().
@@ -107,8 +113,9 @@ struct RegistrationResult {
   double far_sigma_m = 0.0;         ///< σ_p(z_far) = √(σ_r² + z_far²·σ_θ²) [m], the covariance test's figure
   double correction_m = 0.0;        ///< |translation of log(T_inactive_active)| [m]
   double correction_rad = 0.0;      ///< |rotation of log(T_inactive_active)| [rad]
-  double correction_chi2 = 0.0;     ///< ξᵀ Σ⁺ ξ of the correction (min_correction_chi2)
-  int free_directions = 0;          ///< directions left out as unconstrained (0–4; icp_degeneracy.hpp)
+  double correction_chi2 = 0.0;  ///< ξᵀ Σ⁺ ξ of the correction, Σ with the systematic part (min_correction_chi2)
+  double bias_bound = 0.0;       ///< Σ w e²: the systematic part's scale (0 without a calibrated σ_b)
+  int free_directions = 0;       ///< directions left out as unconstrained (0–4; icp_degeneracy.hpp)
   int iterations = 0;
   bool accepted() const { return verdict == RegistrationVerdict::kAccepted; }
   /// The correction is evidence of drift (χ² ≥ min_correction_chi2; set by align() once the tests before the

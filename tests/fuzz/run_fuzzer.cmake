@@ -1,22 +1,10 @@
-# Compiles one libFuzzer target with clang++ and runs it; called by ctest (tests/fuzz/CMakeLists.txt).
-# A compile error, a crash, a leak, a sanitizer report or a run that does not finish fails the test.
-# Inputs (-D): CLANGXX, NAME, TARGET_SOURCE, SOURCES, INCLUDE_DIRS, LINK_FILES and FLAGS ('|'-separated),
-# WORK_DIR, SEED_DIR ("" = none), SECONDS, RUNS (0 = no limit but SECONDS), MAX_LEN.
-string(REPLACE "|" ";" sources "${SOURCES}")
-string(REPLACE "|" ";" include_dirs "${INCLUDE_DIRS}")
-string(REPLACE "|" ";" link_files "${LINK_FILES}")
-string(REPLACE "|" ";" flags "${FLAGS}")
-list(REMOVE_DUPLICATES include_dirs)
-list(TRANSFORM include_dirs PREPEND "-I")
-file(MAKE_DIRECTORY "${WORK_DIR}")
-set(binary "${WORK_DIR}/${NAME}")
-
-execute_process(
-  COMMAND "${CLANGXX}" ${flags} ${include_dirs} "${TARGET_SOURCE}" ${sources} ${link_files} -o "${binary}"
-  RESULT_VARIABLE compile_result)
-if(NOT compile_result EQUAL 0)
-  message(FATAL_ERROR "${NAME}: ${CLANGXX} failed (${compile_result})")
+# Runs one libFuzzer target that the build made (build_fuzzer.cmake); called by ctest (tests/fuzz/CMakeLists.txt).
+# A missing binary, a crash, a leak, a sanitizer report or a run that does not finish fails the test.
+# Inputs (-D): NAME, BINARY, WORK_DIR, SEED_DIR ("" = none), SECONDS, RUNS (0 = no limit but SECONDS), MAX_LEN.
+if(NOT EXISTS "${BINARY}")
+  message(FATAL_ERROR "${NAME}: ${BINARY} is not built (the build's fuzz_targets target makes it)")
 endif()
+file(MAKE_DIRECTORY "${WORK_DIR}")
 
 # A fresh corpus each time, grown from the seeds: a fixed seed then repeats the same mutations. Crash inputs
 # are written into WORK_DIR.
@@ -35,7 +23,7 @@ if(RUNS GREATER 0)
   list(APPEND limits -runs=${RUNS})
 endif()
 execute_process(
-  COMMAND "${binary}" ${limits} -seed=1 -max_len=${MAX_LEN} -print_final_stats=1 "-artifact_prefix=${WORK_DIR}/"
+  COMMAND "${BINARY}" ${limits} -seed=1 -max_len=${MAX_LEN} -print_final_stats=1 "-artifact_prefix=${WORK_DIR}/"
           ${corpus_dirs}
   WORKING_DIRECTORY "${WORK_DIR}"
   RESULT_VARIABLE run_result

@@ -111,6 +111,7 @@ def main():
         "imu_inf": f"imu-inf@{FAULT_FRAME}",
         "frame_drop": f"frame-drop@{FAULT_FRAME}:5",
         "frame_duplicate": f"frame-duplicate@{FAULT_FRAME}",
+        "frame_blank": f"frame-blank@{FAULT_FRAME}:5",
         "time_backwards": f"time-backwards@{FAULT_FRAME}",
         "clock_jump_forward": f"clock-jump@{FAULT_FRAME}:+1",
         "clock_jump_back": f"clock-jump@{FAULT_FRAME}:-1",
@@ -156,6 +157,14 @@ def main():
         expect(len(faulty) == FRAMES - 5 and report["lost_frames"] == 0 and skipped_frames == 0, "frames")
         dropped = set(sorted(baseline)[FAULT_FRAME:FAULT_FRAME + 5])
         expect(not (dropped & set(faulty)), "a dropped frame has a pose")
+        check_track_kept()
+    elif case == "frame_blank":
+        # Five frames arrive on time with no depth and black colour (a covered lens): each is lost, none skipped,
+        # and the first frame after them tracks again.
+        expect(len(faulty) == FRAMES and skipped_frames == 0, f"{len(faulty)} poses, {skipped_frames} frames skipped")
+        rows = [l.split(",") for l in (out / "frames.csv").read_text().splitlines() if not l.startswith("#")]
+        lost = [i for i, row in enumerate(rows) if int(row[2]) != 0]
+        expect(lost == list(range(FAULT_FRAME, FAULT_FRAME + 5)), f"lost frames {lost}, expected the five blank ones")
         check_track_kept()
     elif case in ("frame_duplicate", "time_backwards"):
         # Skip and count the frame whose time does not increase.

@@ -57,6 +57,10 @@ class FaultInjectingReader final : public DatasetReader {
     ++source_position_;
     if (!recording_->nextFrame(frame)) return false;
     frame.t_ns += delivery.shift_ns;
+    if (delivery.blank) {
+      std::fill_n(frame.depth.data(), frame.depth.pixelCount(), std::uint16_t{0});
+      std::fill_n(frame.rgb.data(), frame.rgb.pixelCount(), Rgb8{});
+    }
     if (next_ < deliveries_.size() && deliveries_[next_].repeat) repeated_ = frame;
     return true;
   }
@@ -81,11 +85,12 @@ class FaultInjectingReader final : public DatasetReader {
     std::int64_t shift_ns = 0;
     std::int64_t stall_ns = 0;
     bool repeat = false;  ///< the previous delivery's frame again
+    bool blank = false;   ///< no depth, black colour
   };
 
   void planFrames(std::size_t frames) {
     std::vector<std::int64_t> shift_ns(frames, 0), stall_ns(frames, 0);
-    std::vector<bool> dropped(frames, false), duplicated(frames, false);
+    std::vector<bool> dropped(frames, false), duplicated(frames, false), blank(frames, false);
     for (const Fault& fault : plan_.faults) {
       const std::int64_t value_ns = secondsToNs(fault.value);
       switch (fault.kind) {
@@ -103,6 +108,11 @@ class FaultInjectingReader final : public DatasetReader {
         case FaultKind::kFrameDuplicate:
           duplicated[fault.frame] = true;
           break;
+        case FaultKind::kFrameBlank:
+          for (std::size_t i = fault.frame; i < std::min(frames, fault.frame + static_cast<std::size_t>(fault.value));
+               ++i)
+            blank[i] = true;
+          break;
         case FaultKind::kStall:
           stall_ns[fault.frame] += value_ns;
           break;
@@ -115,9 +125,9 @@ class FaultInjectingReader final : public DatasetReader {
     for (std::size_t i = 0; i < frames; ++i) {
       pending_stall_ns += stall_ns[i];
       if (dropped[i]) continue;
-      deliveries_.push_back({i, shift_ns[i], pending_stall_ns, false});
+      deliveries_.push_back({i, shift_ns[i], pending_stall_ns, false, blank[i]});
       pending_stall_ns = 0;
-      if (duplicated[i]) deliveries_.push_back({i, shift_ns[i], 0, true});
+      if (duplicated[i]) deliveries_.push_back({i, shift_ns[i], 0, true, blank[i]});
     }
   }
 

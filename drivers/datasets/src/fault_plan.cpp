@@ -23,7 +23,7 @@ struct FaultName {
 // Defaults: a 0.1 s IMU hole is 8 × the largest spacing the IMU checks allow at 200 Hz (2.5 periods), so it is
 // always a gap; 0.1 s back is three frame periods at 30 Hz, so the frame is before its predecessor; a 2 s stall is
 // longer than a frame period by far yet short enough for a test.
-constexpr std::array<FaultName, 11> kFaultNames = {{
+constexpr std::array<FaultName, 12> kFaultNames = {{
     {FaultKind::kImuGap, "imu-gap", ValueUse::kSeconds, 0.1},
     {FaultKind::kImuDuplicate, "imu-duplicate", ValueUse::kNone, 0.0},
     {FaultKind::kImuReorder, "imu-reorder", ValueUse::kNone, 0.0},
@@ -31,6 +31,7 @@ constexpr std::array<FaultName, 11> kFaultNames = {{
     {FaultKind::kImuInf, "imu-inf", ValueUse::kNone, 0.0},
     {FaultKind::kFrameDrop, "frame-drop", ValueUse::kFrameCount, 1.0},
     {FaultKind::kFrameDuplicate, "frame-duplicate", ValueUse::kNone, 0.0},
+    {FaultKind::kFrameBlank, "frame-blank", ValueUse::kFrameCount, 1.0},
     {FaultKind::kTimeBackwards, "time-backwards", ValueUse::kSeconds, 0.1},
     {FaultKind::kClockJump, "clock-jump", ValueUse::kSignedSecondsRequired, 0.0},
     {FaultKind::kStall, "stall", ValueUse::kSeconds, 2.0},
@@ -39,8 +40,8 @@ constexpr std::array<FaultName, 11> kFaultNames = {{
 
 /// Longest stall or time shift a plan may ask for [s]: an hour, far beyond any fault worth replaying.
 constexpr double kMaxSeconds = 3600.0;
-/// Most frames one frame-drop may remove.
-constexpr double kMaxDroppedFrames = 1e6;
+/// Most frames one frame-drop may remove or one frame-blank may blank.
+constexpr double kMaxFrameCount = 1e6;
 
 const FaultName& nameOf(FaultKind kind) {
   for (const FaultName& entry : kFaultNames)
@@ -66,7 +67,7 @@ double parseValue(std::string_view text, const FaultName& fault, const std::stri
   }
   switch (fault.value) {
     case ValueUse::kFrameCount:
-      if (value < 1.0 || value > kMaxDroppedFrames || value != std::floor(value))
+      if (value < 1.0 || value > kMaxFrameCount || value != std::floor(value))
         throw Error(prefix + "the frame count must be a whole number from 1 to 1000000, not '" + copy + "'");
       break;
     case ValueUse::kSignedSecondsRequired:

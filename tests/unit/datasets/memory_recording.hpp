@@ -40,7 +40,7 @@ class MemoryRecording final : public DatasetReader {
     frame.index = static_cast<std::int64_t>(next_);
     frame.t_ns = timeOf(next_);
     frame.depth.resize(4, 3, static_cast<std::uint16_t>(1000 + next_));
-    frame.rgb.resize(4, 3);
+    frame.rgb.resize(4, 3, kColour);
     ++next_;
     return true;
   }
@@ -57,6 +57,8 @@ class MemoryRecording final : public DatasetReader {
   std::string describe() const override { return "memory recording"; }
 
   static std::int64_t timeOf(std::size_t index) { return kStartNs + static_cast<std::int64_t>(index) * kFramePeriodNs; }
+  /// Every frame's colour: not black, so that a blanked frame shows.
+  static constexpr Rgb8 kColour{10, 20, 30};
 
  private:
   std::size_t frames_;

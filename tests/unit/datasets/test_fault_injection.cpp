@@ -52,12 +52,12 @@ std::unique_ptr<DatasetReader> faulty(std::size_t frames, const std::string& pla
 TEST(FaultPlan, ReadsEveryFaultWithItsDefaultsAndWritesItBack) {
   const FaultPlan plan = parseFaultPlan(
       "imu-gap@3,imu-duplicate@4,imu-reorder@5,imu-nan@6,imu-inf@7,frame-drop@8:3,frame-duplicate@9,"
-      "time-backwards@10:0.25,clock-jump@11:-1,stall@12,device-lost@13",
+      "time-backwards@10:0.25,clock-jump@11:-1,stall@12,device-lost@13,frame-blank@14",
       "--inject");
-  ASSERT_EQ(plan.faults.size(), 11u);
+  ASSERT_EQ(plan.faults.size(), 12u);
   EXPECT_EQ(plan.describe(),
             "imu-gap@3:0.1,imu-duplicate@4,imu-reorder@5,imu-nan@6,imu-inf@7,frame-drop@8:3,frame-duplicate@9,"
-            "time-backwards@10:0.25,clock-jump@11:-1,stall@12:2,device-lost@13");
+            "time-backwards@10:0.25,clock-jump@11:-1,stall@12:2,device-lost@13,frame-blank@14:1");
   EXPECT_EQ(plan.deviceLostFrame(), 13u);
   EXPECT_EQ(parseFaultPlan(plan.describe(), "again").describe(), plan.describe());
   EXPECT_FALSE(parseFaultPlan("stall@1", "--inject").deviceLostFrame());
@@ -76,6 +76,7 @@ TEST(FaultPlan, RefusesWhatItCannotReadNamingTheEntry) {
   expectErrorNaming([] { parseFaultPlan("stall@3:-2", "--inject"); }, {"above 0"});
   expectErrorNaming([] { parseFaultPlan("stall@3:nan", "--inject"); }, {"not a number"});
   expectErrorNaming([] { parseFaultPlan("frame-drop@3:1.5", "--inject"); }, {"whole number"});
+  expectErrorNaming([] { parseFaultPlan("frame-blank@3:0", "--inject"); }, {"whole number"});
   expectErrorNaming([] { parseFaultPlan("imu-gap@0", "--inject"); }, {"between frames K-1 and K"});
   expectErrorNaming([] { parseFaultPlan("stall@1,", "--inject"); }, {"ends with a comma"});
   expectErrorNaming([] { parseFaultPlan("stall@1,,stall@2", "--inject"); }, {"empty entry"});
@@ -92,6 +93,27 @@ TEST(FaultInjection, DroppedFramesNeverArriveAndTheRestKeepTheirIndexAndTime) {
     EXPECT_EQ(delivered[i].t_ns, MemoryRecording::timeOf(static_cast<std::size_t>(expected[i])));
     EXPECT_EQ(reader->listedFrameTimeNs(i), delivered[i].t_ns);
   }
+}
+
+TEST(FaultInjection, BlankFramesArriveAtTheirTimesWithNoDepthAndBlackColour) {
+  const auto reader = faulty(10, "frame-blank@2:3,frame-duplicate@3");
+  EXPECT_EQ(reader->frameCount(), 11u);
+  RgbdFrame frame;
+  std::vector<std::int64_t> indices;
+  while (reader->nextFrame(frame)) {
+    indices.push_back(frame.index);
+    EXPECT_EQ(frame.t_ns, MemoryRecording::timeOf(static_cast<std::size_t>(frame.index)));
+    ASSERT_EQ(frame.depth.width(), 4);  // the recorded size, every pixel blank or none
+    ASSERT_EQ(frame.rgb.height(), 3);
+    const bool blank = frame.index >= 2 && frame.index < 5;
+    for (int y = 0; y < frame.depth.height(); ++y) {
+      for (int x = 0; x < frame.depth.width(); ++x) {
+        EXPECT_EQ(frame.depth(x, y), blank ? 0 : 1000 + frame.index) << "frame " << frame.index;
+        EXPECT_EQ(frame.rgb(x, y), blank ? Rgb8{} : MemoryRecording::kColour) << "frame " << frame.index;
+      }
+    }
+  }
+  EXPECT_EQ(indices, (std::vector<std::int64_t>{0, 1, 2, 3, 3, 4, 5, 6, 7, 8, 9}));
 }
 
 TEST(FaultInjection, ADuplicatedFrameArrivesTwiceAndTheGuardRefusesTheSecond) {

@@ -9,6 +9,8 @@
 //   imu-nan@K, imu-inf@K that sample's acceleration x becomes NaN, or its angular rate z +∞
 //   frame-drop@K[:N]     frames K … K+N−1 (default N = 1) never arrive
 //   frame-duplicate@K    frame K arrives twice
+//   frame-blank@K[:N]    frames K … K+N−1 (default N = 1) arrive at their times with no depth and black colour: a
+//                        covered lens, the lights out (the IMU goes on)
 //   time-backwards@K[:S] frame K's time goes back S s (default 0.1, earlier than the frame before it)
 //   clock-jump@K:±S      the source's clock jumps by ±S s between frames K−1 and K: every later frame and IMU sample
 //   stall@K[:S]          the source delivers nothing for S s (default 2) before frame K
@@ -34,6 +36,7 @@ enum class FaultKind {
   kImuInf,
   kFrameDrop,
   kFrameDuplicate,
+  kFrameBlank,
   kTimeBackwards,
   kClockJump,
   kStall,
@@ -49,7 +52,8 @@ constexpr bool happensBetweenFrames(FaultKind kind) {
 struct Fault {
   FaultKind kind = FaultKind::kFrameDrop;
   std::size_t frame = 0;  ///< K: the source frame it happens at (0-based, in recorded order)
-  /// [s] for imu-gap, time-backwards, clock-jump (signed) and stall; a frame count for frame-drop; unused otherwise.
+  /// [s] for imu-gap, time-backwards, clock-jump (signed) and stall; a frame count for frame-drop and frame-blank;
+  /// unused otherwise.
   double value = 0.0;
 };
 

@@ -88,6 +88,12 @@ class FaultInjectingReader final : public DatasetReader {
     bool blank = false;   ///< no depth, black colour
   };
 
+  /// Marks the frames K … K+N−1 of a fault that takes a frame count, those of the recording.
+  static void markFrames(const Fault& fault, std::vector<bool>& marks) {
+    const std::size_t end = std::min(marks.size(), fault.frame + static_cast<std::size_t>(fault.value));
+    for (std::size_t i = fault.frame; i < end; ++i) marks[i] = true;
+  }
+
   void planFrames(std::size_t frames) {
     std::vector<std::int64_t> shift_ns(frames, 0), stall_ns(frames, 0);
     std::vector<bool> dropped(frames, false), duplicated(frames, false), blank(frames, false);
@@ -101,17 +107,13 @@ class FaultInjectingReader final : public DatasetReader {
           shift_ns[fault.frame] -= value_ns;
           break;
         case FaultKind::kFrameDrop:
-          for (std::size_t i = fault.frame; i < std::min(frames, fault.frame + static_cast<std::size_t>(fault.value));
-               ++i)
-            dropped[i] = true;
+          markFrames(fault, dropped);
           break;
         case FaultKind::kFrameDuplicate:
           duplicated[fault.frame] = true;
           break;
         case FaultKind::kFrameBlank:
-          for (std::size_t i = fault.frame; i < std::min(frames, fault.frame + static_cast<std::size_t>(fault.value));
-               ++i)
-            blank[i] = true;
+          markFrames(fault, blank);
           break;
         case FaultKind::kStall:
           stall_ns[fault.frame] += value_ns;

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 
+#include "vifusion/calib/depth_offset_fit.hpp"
 #include "vifusion/calib/residual_correlation.hpp"
 #include "vifusion/calib/variance_fit.hpp"
 #include "vifusion/core/error.hpp"
@@ -120,8 +120,9 @@ void NoiseEstimator::addPair(const PairResidualImages& residuals) {
   const int width = residuals.inverse_depth_residual_per_m.width();
   const int height = residuals.inverse_depth_residual_per_m.height();
   for (const Image<float>* image :
-       {&residuals.depth_b_m, &residuals.inverse_depth_gradient_sq, &residuals.bias_sensitivity, &residuals.grey_b_at_a,
-        &residuals.grey_a, &residuals.grey_gradient_sq}) {
+       {&residuals.depth_b_m, &residuals.inverse_depth_gradient_sq, &residuals.bias_sensitivity,
+        &residuals.shift_sensitivity_x, &residuals.shift_sensitivity_y, &residuals.grey_b_at_a, &residuals.grey_a,
+        &residuals.grey_gradient_sq}) {
     if (image->width() != width || image->height() != height) {
       throw std::invalid_argument("noise estimator: a pair's residual images differ in size");
     }
@@ -131,6 +132,8 @@ void NoiseEstimator::addPair(const PairResidualImages& residuals) {
   pair.depth_b_m = residuals.depth_b_m;
   pair.inverse_depth_gradient_sq = residuals.inverse_depth_gradient_sq;
   pair.bias_sensitivity = residuals.bias_sensitivity;
+  pair.shift_sensitivity_x = residuals.shift_sensitivity_x;
+  pair.shift_sensitivity_y = residuals.shift_sensitivity_y;
   pair.grey_gradient_sq = residuals.grey_gradient_sq;
   const Image<float>& grey_a = residuals.grey_a;
   const Image<float>& grey_b = residuals.grey_b_at_a;
@@ -298,36 +301,28 @@ NoiseEstimate NoiseEstimator::estimate() const {
   estimate.model.intensity.correlation_px = intensity_correlation.correlationLength_px();
   estimate.model.intensity.pixels_per_sample = intensity_correlation.pixelsPerSample();
 
-  // The bias left in inverse depth, from the inliers of the depth fit; its σ from the scatter of the pairs' own
-  // estimates, which holds whatever the residuals share across a whole image.
-  std::vector<double> pair_wkr, pair_wkk;
-  for (const StoredPair& pair : pairs_) {
-    double wkr = 0.0;
-    double wkk = 0.0;
-    for_each_depth_in(pair, [&](std::size_t i, double r, const DepthFit::Features& f) {
-      const double variance = depth_variance(f);
-      const double k = pair.bias_sensitivity.data()[i];
-      if (!kept(r, variance) || !std::isfinite(k)) return;
-      const double w = 1.0 / (2.0 * variance);
-      wkr += w * k * r;
-      wkk += w * k * k;
-    });
-    pair_wkr.push_back(wkr);
-    pair_wkk.push_back(wkk);
-  }
-  const double sum_wkk = std::accumulate(pair_wkk.begin(), pair_wkk.end(), 0.0);
-  if (sum_wkk > 0.0 && pairs_.size() >= 2) {
-    const double bias = std::accumulate(pair_wkr.begin(), pair_wkr.end(), 0.0) / sum_wkk;
-    double scatter = 0.0;
-    for (std::size_t p = 0; p < pairs_.size(); ++p) {
-      if (pair_wkk[p] <= 0.0) continue;
-      const double pair_bias = pair_wkr[p] / pair_wkk[p];
-      scatter += pair_wkk[p] * (pair_bias - bias) * (pair_bias - bias);
+  // The bias left in inverse depth and the depth image's shift, by weighted least squares over the inliers of
+  // the depth fit, the inlier window centred on the previous solution; the covariance clustered by pair.
+  DepthOffsetFit offsets;
+  for (int refit = 0; refit < kRefits; ++refit) {
+    const DepthOffsets previous = offsets.solve();
+    offsets = DepthOffsetFit();
+    for (const StoredPair& pair : pairs_) {
+      offsets.beginPair();
+      for_each_depth_in(pair, [&](std::size_t i, double r, const DepthFit::Features& f) {
+        const DepthOffsets::Vector row(pair.bias_sensitivity.data()[i], pair.shift_sensitivity_x.data()[i],
+                                       pair.shift_sensitivity_y.data()[i]);
+        const double variance = depth_variance(f);
+        if (!row.allFinite() || !kept(r - row.dot(previous.value), variance)) return;
+        offsets.add(row, r, 1.0 / (2.0 * variance));
+      });
     }
-    estimate.remaining_inverse_depth_bias_per_m = bias;
-    estimate.remaining_inverse_depth_bias_sigma_per_m =
-        std::sqrt(scatter / (static_cast<double>(pairs_.size() - 1) * sum_wkk));
   }
+  const DepthOffsets solved = offsets.solve();
+  estimate.remaining_inverse_depth_bias_per_m = solved.value(0);
+  estimate.remaining_inverse_depth_bias_sigma_per_m = std::sqrt(solved.covariance(0, 0));
+  estimate.depth_shift_px = solved.value.tail<2>();
+  estimate.depth_shift_sigma_px = solved.covariance.diagonal().tail<2>().cwiseSqrt();
   return estimate;
 }
 

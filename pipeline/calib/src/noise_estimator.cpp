@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "vifusion/calib/depth_offset_fit.hpp"
+#include "vifusion/calib/bias_fit.hpp"
 #include "vifusion/calib/residual_correlation.hpp"
 #include "vifusion/calib/variance_fit.hpp"
 #include "vifusion/core/error.hpp"
@@ -120,9 +120,8 @@ void NoiseEstimator::addPair(const PairResidualImages& residuals) {
   const int width = residuals.inverse_depth_residual_per_m.width();
   const int height = residuals.inverse_depth_residual_per_m.height();
   for (const Image<float>* image :
-       {&residuals.depth_b_m, &residuals.inverse_depth_gradient_sq, &residuals.bias_sensitivity,
-        &residuals.shift_sensitivity_x, &residuals.shift_sensitivity_y, &residuals.grey_b_at_a, &residuals.grey_a,
-        &residuals.grey_gradient_sq}) {
+       {&residuals.depth_b_m, &residuals.inverse_depth_gradient_sq, &residuals.bias_sensitivity, &residuals.grey_b_at_a,
+        &residuals.grey_a, &residuals.grey_gradient_sq}) {
     if (image->width() != width || image->height() != height) {
       throw std::invalid_argument("noise estimator: a pair's residual images differ in size");
     }
@@ -132,8 +131,6 @@ void NoiseEstimator::addPair(const PairResidualImages& residuals) {
   pair.depth_b_m = residuals.depth_b_m;
   pair.inverse_depth_gradient_sq = residuals.inverse_depth_gradient_sq;
   pair.bias_sensitivity = residuals.bias_sensitivity;
-  pair.shift_sensitivity_x = residuals.shift_sensitivity_x;
-  pair.shift_sensitivity_y = residuals.shift_sensitivity_y;
   pair.grey_gradient_sq = residuals.grey_gradient_sq;
   const Image<float>& grey_a = residuals.grey_a;
   const Image<float>& grey_b = residuals.grey_b_at_a;
@@ -301,28 +298,25 @@ NoiseEstimate NoiseEstimator::estimate() const {
   estimate.model.intensity.correlation_px = intensity_correlation.correlationLength_px();
   estimate.model.intensity.pixels_per_sample = intensity_correlation.pixelsPerSample();
 
-  // The bias left in inverse depth and the depth image's shift, by weighted least squares over the inliers of
-  // the depth fit, the inlier window centred on the previous solution; the covariance clustered by pair.
-  DepthOffsetFit offsets;
+  // The bias left in inverse depth, by weighted least squares over the inliers of the depth fit, the inlier window
+  // centred on the previous solution; its σ clustered by pair.
+  BiasFit bias;
   for (int refit = 0; refit < kRefits; ++refit) {
-    const DepthOffsets previous = offsets.solve();
-    offsets = DepthOffsetFit();
+    const double previous = bias.solve().bias_per_m;
+    bias = BiasFit();
     for (const StoredPair& pair : pairs_) {
-      offsets.beginPair();
+      bias.beginPair();
       for_each_depth_in(pair, [&](std::size_t i, double r, const DepthFit::Features& f) {
-        const DepthOffsets::Vector row(pair.bias_sensitivity.data()[i], pair.shift_sensitivity_x.data()[i],
-                                       pair.shift_sensitivity_y.data()[i]);
+        const double k = pair.bias_sensitivity.data()[i];
         const double variance = depth_variance(f);
-        if (!row.allFinite() || !kept(r - row.dot(previous.value), variance)) return;
-        offsets.add(row, r, 1.0 / (2.0 * variance));
+        if (!std::isfinite(k) || !kept(r - k * previous, variance)) return;
+        bias.add(k, r, 1.0 / (2.0 * variance));
       });
     }
   }
-  const DepthOffsets solved = offsets.solve();
-  estimate.remaining_inverse_depth_bias_per_m = solved.value(0);
-  estimate.remaining_inverse_depth_bias_sigma_per_m = std::sqrt(solved.covariance(0, 0));
-  estimate.depth_shift_px = solved.value.tail<2>();
-  estimate.depth_shift_sigma_px = solved.covariance.diagonal().tail<2>().cwiseSqrt();
+  const BiasEstimate solved = bias.solve();
+  estimate.remaining_inverse_depth_bias_per_m = solved.bias_per_m;
+  estimate.remaining_inverse_depth_bias_sigma_per_m = solved.sigma_per_m;
   return estimate;
 }
 

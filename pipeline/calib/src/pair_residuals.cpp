@@ -55,7 +55,7 @@ void PairResidualOptions::validate() const {
 void PairResidualImages::resize(int width, int height) {
   if (inverse_depth_residual_per_m.width() == width && inverse_depth_residual_per_m.height() == height) return;
   for (Image<float>* image : {&inverse_depth_residual_per_m, &depth_b_m, &inverse_depth_gradient_sq, &bias_sensitivity,
-                              &shift_sensitivity_x, &shift_sensitivity_y, &grey_b_at_a, &grey_a, &grey_gradient_sq}) {
+                              &grey_b_at_a, &grey_a, &grey_gradient_sq}) {
     image->resize(width, height);
   }
 }
@@ -75,15 +75,11 @@ void computePairResiduals(const PinholeCamera& camera, ImageView<const float> in
       out.depth_b_m(x, y) = kNone;
       out.inverse_depth_gradient_sq(x, y) = kNone;
       out.bias_sensitivity(x, y) = kNone;
-      out.shift_sensitivity_x(x, y) = kNone;
-      out.shift_sensitivity_y(x, y) = kNone;
       out.grey_b_at_a(x, y) = kNone;
       out.grey_gradient_sq(x, y) = kNone;
       out.grey_a(x, y) = grey_a(x, y);
       const bool inside_a = x >= kStep && y >= kStep && x < width - kStep && y < height - kStep;
-      if (!inside_a) continue;
-      const Stencil depth_a = stencilAt(inverse_depth_a, x, y);
-      if (!isSmoothSurface(depth_a, options.max_relative_curvature)) continue;
+      if (!inside_a || !isSmoothSurface(stencilAt(inverse_depth_a, x, y), options.max_relative_curvature)) continue;
 
       const Eigen::Vector3d ray_b = R_b_a * camera.backProject({x, y}, 1.0);
       const double z_a = 1.0 / inverse_depth_a(x, y);
@@ -107,13 +103,7 @@ void computePairResiduals(const PinholeCamera& camera, ImageView<const float> in
         const Eigen::Vector3d dp_b = -z_a * z_a * ray_b;
         const double through_depth = -dp_b.z() / (p_b.z() * p_b.z());
         const double through_image = gradient(depth_b).dot(J_uv_p * dp_b);
-        const double k = 1.0 + through_image - through_depth;
-        out.bias_sensitivity(x, y) = static_cast<float>(k);
-        // Both images read at u + s: b's value moves by ∇ι_b·s, and a's by ∇ι_a·s, which reaches r as a change
-        // of ι_a does, times k − 1.
-        const Eigen::Vector2d shift_sensitivity = gradient(depth_b) + (k - 1.0) * gradient(depth_a);
-        out.shift_sensitivity_x(x, y) = static_cast<float>(shift_sensitivity.x());
-        out.shift_sensitivity_y(x, y) = static_cast<float>(shift_sensitivity.y());
+        out.bias_sensitivity(x, y) = static_cast<float>(1.0 + through_image - through_depth);
       }
       const Stencil intensity_b = stencilAt(grey_b, cx, cy);
       if (curvature(intensity_b, true) <= options.max_intensity_curvature &&

@@ -111,8 +111,6 @@ int runCalibNoise(const CalibNoiseOptions& options) {
         {"inverse_depth_bias_per_m", bias_per_m},
         {"inverse_depth_bias_sigma_per_m", estimate.remaining_inverse_depth_bias_sigma_per_m},
         {"calibration_inverse_depth_bias_per_m", calibration.inverse_depth_bias_per_m},
-        {"shift_px", {estimate.depth_shift_px.x(), estimate.depth_shift_px.y()}},
-        {"shift_sigma_px", {estimate.depth_shift_sigma_px.x(), estimate.depth_shift_sigma_px.y()}},
         {"bins", bins}}},
       {"intensity",
        {{"sigma", model.intensity.sigma},

@@ -103,10 +103,8 @@ TEST(LivingRoomNoise, PairsOfTheSimulatedSensorGiveItsConfiguredNoiseWithin10Per
       m.depth.disparity_sigma_px, configured.depth.disparity_sigma_px, m.depth.quantisation_m,
       configured.depth.quantisation_m, m.depth.lateral_sigma_px, configured.depth.lateral_sigma_px, m.intensity.sigma,
       configured.intensity.sigma, m.depth.pixels_per_sample, m.intensity.pixels_per_sample);
-  std::printf("inverse-depth bias %.3g ± %.2g 1/m (simulated %.3g), depth shift (%.3f, %.3f) ± (%.3f, %.3f) px\n",
-              measured.remaining_inverse_depth_bias_per_m, measured.remaining_inverse_depth_bias_sigma_per_m,
-              scene::kSimulatedInverseDepthBias_per_m, measured.depth_shift_px.x(), measured.depth_shift_px.y(),
-              measured.depth_shift_sigma_px.x(), measured.depth_shift_sigma_px.y());
+  std::printf("inverse-depth bias %.3g ± %.2g 1/m (simulated %.3g)\n", measured.remaining_inverse_depth_bias_per_m,
+              measured.remaining_inverse_depth_bias_sigma_per_m, scene::kSimulatedInverseDepthBias_per_m);
   EXPECT_NEAR(m.depth.disparity_sigma_px, configured.depth.disparity_sigma_px,
               0.1 * configured.depth.disparity_sigma_px);
   EXPECT_NEAR(m.depth.quantisation_m, configured.depth.quantisation_m, 0.25 * configured.depth.quantisation_m);

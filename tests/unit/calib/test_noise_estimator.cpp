@@ -12,10 +12,10 @@ namespace {
 
 constexpr double kFocalBaseline_px_m = 36.0;
 
-/// Residual images drawn from a known model: σ_ι² = A + B/z⁴ + L·g², an inverse-depth bias and a depth shift
-/// (depth_offset_fit.hpp), grey σ_I with a brightness change, and a share of gross outliers (occlusions) in both.
+/// Residual images drawn from a known model: σ_ι² = A + B/z⁴ + L·g², grey σ_I with a brightness change,
+/// and a share of gross outliers (occlusions) in both.
 PairResidualImages drawPair(std::mt19937& rng, const DepthNoiseModel& depth, double grey_sigma, double outlier_share,
-                            double bias_per_m, const Eigen::Vector2d& shift_px = Eigen::Vector2d::Zero()) {
+                            double bias_per_m) {
   constexpr int kWidth = 160, kHeight = 120;
   PairResidualImages pair;
   pair.resize(kWidth, kHeight);
@@ -32,14 +32,9 @@ PairResidualImages drawPair(std::mt19937& rng, const DepthNoiseModel& depth, dou
     pair.depth_b_m.data()[i] = static_cast<float>(z);
     pair.inverse_depth_gradient_sq.data()[i] = static_cast<float>(g2);
     const double k = 0.4 * (uniform(rng) - 0.5);  // depth changes by up to ±10 % between the frames
-    // ∂r/∂s: slopes of up to ±1e-3 1/m per px, as on a wall seen at a slant from 2 m.
-    const Eigen::Vector2d shift_row(2e-3 * (uniform(rng) - 0.5), 2e-3 * (uniform(rng) - 0.5));
     pair.bias_sensitivity.data()[i] = static_cast<float>(k);
-    pair.shift_sensitivity_x.data()[i] = static_cast<float>(shift_row.x());
-    pair.shift_sensitivity_y.data()[i] = static_cast<float>(shift_row.y());
     pair.inverse_depth_residual_per_m.data()[i] = static_cast<float>(
-        outlier ? 0.2 * (uniform(rng) - 0.5)
-                : k * bias_per_m + shift_row.dot(shift_px) + std::sqrt(2.0 * variance) * normal(rng));
+        outlier ? 0.2 * (uniform(rng) - 0.5) : k * bias_per_m + std::sqrt(2.0 * variance) * normal(rng));
     const double grey_a = 20.0 + 200.0 * uniform(rng);
     pair.grey_a.data()[i] = static_cast<float>(grey_a);
     pair.grey_gradient_sq.data()[i] = 0.0F;
@@ -59,8 +54,7 @@ TEST(NoiseEstimator, RecoversAKnownModelPastOutliersAndABrightnessChange) {
   std::mt19937 rng(11);
   NoiseEstimator estimator(kFocalBaseline_px_m);
   constexpr double kBias_per_m = 1.5e-3;
-  const Eigen::Vector2d shift_px(0.1, -0.2);
-  for (int pair = 0; pair < 30; ++pair) estimator.addPair(drawPair(rng, truth, 2.7, 0.03, kBias_per_m, shift_px));
+  for (int pair = 0; pair < 30; ++pair) estimator.addPair(drawPair(rng, truth, 2.7, 0.03, kBias_per_m));
   const NoiseEstimate estimate = estimator.estimate();
   EXPECT_NEAR(estimate.model.depth.disparity_sigma_px, 0.05, 0.02 * 0.05);
   EXPECT_NEAR(estimate.model.depth.quantisation_m, 0.01, 0.03 * 0.01);
@@ -74,10 +68,6 @@ TEST(NoiseEstimator, RecoversAKnownModelPastOutliersAndABrightnessChange) {
   EXPECT_NEAR(estimate.remaining_inverse_depth_bias_per_m, kBias_per_m,
               3.0 * estimate.remaining_inverse_depth_bias_sigma_per_m);
   EXPECT_LT(estimate.remaining_inverse_depth_bias_sigma_per_m, 0.1 * kBias_per_m);
-  for (int axis = 0; axis < 2; ++axis) {
-    EXPECT_NEAR(estimate.depth_shift_px(axis), shift_px(axis), 3.0 * estimate.depth_shift_sigma_px(axis)) << axis;
-    EXPECT_LT(estimate.depth_shift_sigma_px(axis), 0.1 * shift_px.norm()) << axis;
-  }
   EXPECT_FALSE(estimate.depth_bins.empty());
   for (const DepthBinNoise& bin : estimate.depth_bins) {
     EXPECT_NEAR(bin.inverse_depth_sigma_per_m, bin.fitted_sigma_per_m, 0.05 * bin.fitted_sigma_per_m) << bin.z_m;

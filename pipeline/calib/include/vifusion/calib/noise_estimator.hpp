@@ -13,16 +13,14 @@
 // each refit trims at trim_sigmas of the previous fit's σ for that residual (kRefits times).
 // Intensity. Per pair, a brightness change I_b = α·I_a + β (auto exposure) is fitted by least squares to the
 // trimmed pairs and removed; then σ_I² + σ_px²·‖∇I‖² is fitted as for depth, with one bin.
-// Bias and shift. A bias left in inverse depth adds k·δb to each depth residual, a shift of the depth image J_s·s
-// (pair_residuals.hpp); both come from one weighted least-squares fit over the inliers (depth_offset_fit.hpp),
-// w = 1 / var(r), the inlier window centred on the previous fit's prediction (kRefits times) so that residuals
-// moved by k·δb are not trimmed more on one side. Fitted alone, the bias takes up part of any shift. The
-// covariance is clustered by pair: errors shared across a whole image, such as a depth staircase, make the
-// pixels far from independent for these numbers, beyond any correlation window.
+// Bias. A bias left in inverse depth adds k·δb to each depth residual (pair_residuals.hpp); δb is their weighted
+// least-squares fit over the inliers (bias_fit.hpp), w = 1 / var(r), the inlier window centred on the previous
+// fit's prediction (kRefits times) so that residuals moved by k·δb are not trimmed more on one side. Its σ is
+// clustered by pair: errors shared across a whole image, such as a depth staircase, make the pixels far from
+// independent for this mean, beyond any correlation window.
 // Correlation. Residuals divided by their fitted σ (√2 σ per pair) feed residual_correlation.hpp; those beyond
 // trim_sigmas are left out.
 
-#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
@@ -57,10 +55,6 @@ struct NoiseEstimate {
   /// inverse_depth_bias_per_m. Its σ from the pairs' scatter (0 with fewer than two pairs).
   double remaining_inverse_depth_bias_per_m = 0.0;
   double remaining_inverse_depth_bias_sigma_per_m = 0.0;
-  /// Where the depth image reads the surface, relative to where the camera model says: ι_obs(u) = ι(u + s)
-  /// [px] (depth_offset_fit.hpp), fitted with the bias; its σ per axis.
-  Eigen::Vector2d depth_shift_px = Eigen::Vector2d::Zero();
-  Eigen::Vector2d depth_shift_sigma_px = Eigen::Vector2d::Zero();
   std::int64_t depth_samples = 0;      ///< depth residuals kept after trimming
   std::int64_t intensity_samples = 0;  ///< intensity residuals kept after trimming
   int pairs = 0;                       ///< frame pairs added
@@ -86,8 +80,6 @@ class NoiseEstimator {
     Image<float> depth_b_m;
     Image<float> inverse_depth_gradient_sq;
     Image<float> bias_sensitivity;
-    Image<float> shift_sensitivity_x;
-    Image<float> shift_sensitivity_y;
     Image<float> intensity_residual;  ///< after the pair's brightness fit; NaN where none
     Image<float> grey_gradient_sq;
   };

@@ -11,10 +11,7 @@
 // gradient's noise small: it adds at most 2·(1/12)·(1/8) of one pixel's variance, 1 % of the residual's.
 // A bias b left in inverse depth (1/z_raw = 1/z + b, RigCalibration::inverse_depth_bias_per_m) does not cancel
 // between the frames when depth changes: r_ι gains k·b, k = ∂r_ι/∂b = 1 + ∇ι_b·∂u'/∂b − ∂(1/z(p_b))/∂b, where b
-// moves p_b by −z_a²·R_b_a·π⁻¹(u, 1) (a's depth) — which makes b observable from pairs that move along the view.
-// A shift s [px] of where both depth images read the surface (ι_obs(u) = ι(u + s): a structured-light sensor's
-// dot fill, a depth-to-colour registration error) adds J_s·s, J_s = ∂r_ι/∂s = ∇ι_b(c) + (k − 1)·∇ι_a(u): b's
-// value moves by its slope, and a's by ∇ι_a·s, which reaches r as any change of ι_a does, times k − 1. The
+// moves p_b by −z_a²·R_b_a·π⁻¹(u, 1) (a's depth) — which makes b observable from pairs that move along the view. The
 // intensity residual is likewise I_b(u') − I_a(u) on the 0–255 scale, before any brightness change between the frames
 // is removed (noise_estimator.hpp).
 //
@@ -51,8 +48,6 @@ struct PairResidualImages {
   Image<float> depth_b_m;                     ///< z(p_b): the depth the residual's noise belongs to [m]
   Image<float> inverse_depth_gradient_sq;     ///< ‖∇ι_b(c)‖² [(1/m)²/px²], for the lateral noise term
   Image<float> bias_sensitivity;              ///< k = ∂r_ι/∂b [1] (see above)
-  Image<float> shift_sensitivity_x;           ///< ∂r_ι/∂s_x [1/m per px] (see above)
-  Image<float> shift_sensitivity_y;           ///< ∂r_ι/∂s_y [1/m per px]
   Image<float> grey_b_at_a;                   ///< I_b(u') [0–255]
   Image<float> grey_gradient_sq;              ///< ‖∇I_b(c)‖² [grey²/px²]
   Image<float> grey_a;                        ///< I_a(u) [0–255]

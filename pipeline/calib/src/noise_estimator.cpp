@@ -298,17 +298,21 @@ NoiseEstimate NoiseEstimator::estimate() const {
   estimate.model.intensity.correlation_px = intensity_correlation.correlationLength_px();
   estimate.model.intensity.pixels_per_sample = intensity_correlation.pixelsPerSample();
 
-  // The bias left in inverse depth, by weighted least squares over the inliers of the depth fit; its σ clustered by
-  // pair.
+  // The bias left in inverse depth, by weighted least squares over the inliers of the depth fit, the inlier window
+  // centred on the previous solution; its σ clustered by pair.
   BiasFit bias;
-  for (const StoredPair& pair : pairs_) {
-    bias.beginPair();
-    for_each_depth_in(pair, [&](std::size_t i, double r, const DepthFit::Features& f) {
-      const double k = pair.bias_sensitivity.data()[i];
-      const double variance = depth_variance(f);
-      if (!std::isfinite(k) || !kept(r, variance)) return;
-      bias.add(k, r, 1.0 / (2.0 * variance));
-    });
+  for (int refit = 0; refit < kRefits; ++refit) {
+    const double previous = bias.solve().bias_per_m;
+    bias = BiasFit();
+    for (const StoredPair& pair : pairs_) {
+      bias.beginPair();
+      for_each_depth_in(pair, [&](std::size_t i, double r, const DepthFit::Features& f) {
+        const double k = pair.bias_sensitivity.data()[i];
+        const double variance = depth_variance(f);
+        if (!std::isfinite(k) || !kept(r - k * previous, variance)) return;
+        bias.add(k, r, 1.0 / (2.0 * variance));
+      });
+    }
   }
   const BiasEstimate solved = bias.solve();
   estimate.remaining_inverse_depth_bias_per_m = solved.bias_per_m;

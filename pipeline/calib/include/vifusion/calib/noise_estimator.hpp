@@ -14,9 +14,10 @@
 // Intensity. Per pair, a brightness change I_b = α·I_a + β (auto exposure) is fitted by least squares to the
 // trimmed pairs and removed; then σ_I² + σ_px²·‖∇I‖² is fitted as for depth, with one bin.
 // Bias. A bias left in inverse depth adds k·δb to each depth residual (pair_residuals.hpp); δb is their weighted
-// least-squares fit over the inliers of the depth fit (bias_fit.hpp), w = 1 / var(r). Its σ is clustered by pair:
-// errors shared across a whole image, such as a depth staircase, make the pixels far from independent for this
-// mean, beyond any correlation window.
+// least-squares fit over the inliers (bias_fit.hpp), w = 1 / var(r), the inlier window centred on the previous
+// fit's prediction (kRefits times) so that residuals moved by k·δb are not trimmed more on one side. Its σ is
+// clustered by pair: errors shared across a whole image, such as a depth staircase, make the pixels far from
+// independent for this mean, beyond any correlation window.
 // Correlation. Residuals divided by their fitted σ (√2 σ per pair) feed residual_correlation.hpp; those beyond
 // trim_sigmas are left out.
 

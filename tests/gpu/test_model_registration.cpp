@@ -2,7 +2,8 @@
 // preprocessed frames stand in for the active and inactive renderings. The same view against itself is the
 // identity and accepted; two views 5 frames apart register to the KinectFusion poses' relative motion; a
 // view against an unrelated one is refused by name; a layer off by the calibration's depth-bias error is no
-// evidence of drift once σ_b is known, while real drift stays evidence; and the options' validation.
+// evidence of drift once σ_b is known, while real drift stays evidence; one off by more than the depth noise is
+// ambiguous; and the options' validation.
 
 #include <gtest/gtest.h>
 
@@ -187,6 +188,11 @@ TEST_F(ModelRegistrationTest, AWallOffsetAlongItsNormalIsMeasuredButNotTrustedTo
   EXPECT_LT(t.head<2>().norm(), 1e-4) << "nothing along the wall";
 }
 
+/// σ_z at the far end of the depth range the rig's preprocessing keeps [m]: the offset test's bound.
+double farDepthSigma(const tracking::IcpOptions& icp) {
+  return icp.axialSigmaAt(preprocess::PreprocessOptions{}.metric.max_depth_m);
+}
+
 /// The frame as a rig whose inverse-depth correction is off by `bias_per_m` sees it: 1/z_raw = 1/z + b.
 test::SevenScenesFrame withInverseDepthBias(test::SevenScenesFrame frame, double bias_per_m) {
   for (int y = 0; y < frame.depth_mm.height(); ++y) {
@@ -231,6 +237,35 @@ TEST_F(ModelRegistrationTest, ALayerOffByTheCalibratedDepthBiasIsNoEvidenceOfDri
   EXPECT_FALSE(with_sigma.significant);
   EXPECT_TRUE(with_sigma.accepted()) << slam::registrationVerdictName(with_sigma.verdict);
   EXPECT_NEAR(with_sigma.correction_m, without_sigma.correction_m, 1e-9) << "σ_b judges, it does not move";
+  EXPECT_LE(with_sigma.correction_far_m, farDepthSigma(icp)) << "the layers coincide to the depth noise";
+}
+
+TEST_F(ModelRegistrationTest, ALayerOffBeyondTheDepthNoiseIsNeitherMovedNorMerged) {
+  // The rig above with b and σ_b both 2.5 times larger: the correction is still no evidence of drift (χ² ≤ 4),
+  // but it moves a point at the far end of the depth range by more than σ_z there. Reactivating the old layer
+  // would put both into the active map for tracking to pull between: the registration calls it ambiguous. A bias
+  // this large also bends the layer by about the depth noise (χ² per inlier just over 1), which the residual test
+  // judges; it is widened here to reach the test after it.
+  constexpr double kBiasSigma_per_m = 1.25e-3;
+  constexpr double kBias_per_m = 2.0 * kBiasSigma_per_m;
+  constexpr float kObservedFarther = 1.5f;
+  constexpr double kRelativeBias_per_m = kBias_per_m * (kObservedFarther * kObservedFarther - 1.0);
+  const test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
+  tracking::IcpOptions icp;
+  icp.inverse_depth_bias_sigma_per_m = static_cast<float>(kBiasSigma_per_m);
+  slam::RegistrationOptions options;
+  options.max_mean_chi2 = 1.5;
+  RegistrationRig rig(context(), withInverseDepthBias(frame, kRelativeBias_per_m), frame, options, icp,
+                      kObservedFarther);
+  const slam::RegistrationResult result = rig.align();
+  std::printf(
+      "layer off by b = %.1e /m: correction %.2f mm / %.3f°, %.1f mm at the far end, χ² %.2f (%.2f per inlier)\n",
+      kBias_per_m, 1e3 * result.correction_m, result.correction_rad * 180.0 / M_PI, 1e3 * result.correction_far_m,
+      result.correction_chi2, result.mean_chi2);
+  EXPECT_LE(result.correction_chi2, 4.0);
+  EXPECT_FALSE(result.significant);
+  EXPECT_GT(result.correction_far_m, farDepthSigma(icp));
+  EXPECT_EQ(result.verdict, slam::RegistrationVerdict::kAmbiguous) << slam::registrationVerdictName(result.verdict);
 }
 
 TEST_F(ModelRegistrationTest, LayersObservedFromTheSameDepthShareTheBias) {

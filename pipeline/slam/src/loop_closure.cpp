@@ -61,6 +61,8 @@ const char* closureRefusalName(ClosureRefusal refusal) {
       return "solve";
     case ClosureRefusal::kConsistency:
       return "consistency";
+    case ClosureRefusal::kAmbiguous:
+      return "ambiguous";
   }
   return "unknown";
 }
@@ -83,6 +85,8 @@ ClosureRefusal refusalOf(RegistrationVerdict verdict) {
       return ClosureRefusal::kCovariance;
     case RegistrationVerdict::kCorrection:
       return ClosureRefusal::kCorrection;
+    case RegistrationVerdict::kAmbiguous:
+      return ClosureRefusal::kAmbiguous;
   }
   return ClosureRefusal::kDiverged;
 }

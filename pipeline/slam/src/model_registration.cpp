@@ -56,6 +56,8 @@ const char* registrationVerdictName(RegistrationVerdict verdict) {
       return "covariance";
     case RegistrationVerdict::kCorrection:
       return "correction";
+    case RegistrationVerdict::kAmbiguous:
+      return "ambiguous";
   }
   return "unknown";
 }
@@ -182,6 +184,7 @@ RegistrationResult ModelRegistration::align() {
   const Vector6d correction = T.log();
   result.correction_m = correction.head<3>().norm();
   result.correction_rad = correction.tail<3>().norm();
+  result.correction_far_m = std::hypot(result.correction_m, far_depth_m_ * result.correction_rad);
   // Σ = (1/s + Σ w e²)·H⁺ (model_registration.hpp): the random and the systematic part share H⁺'s shape.
   result.bias_bound = last.weighted_squared_bound;
   const double covariance_scale = 1.0 / options_.information_scale + result.bias_bound;
@@ -197,9 +200,16 @@ RegistrationResult ModelRegistration::align() {
     const int constrained = 6 - result.free_directions;
     result.significant =
         result.correction_chi2 >= options_.min_correction_chi2[static_cast<std::size_t>(constrained - 1)];
-    // Moving the map needs the correction in every direction; reactivating needs agreement where it is seen.
-    result.verdict = result.significant && result.free_directions > 0 ? RegistrationVerdict::kUnconstrained
-                                                                      : RegistrationVerdict::kAccepted;
+    // Moving the map needs the correction in every direction; reactivating needs the layers to coincide to the
+    // depth noise where they are seen.
+    if (result.significant) {
+      result.verdict =
+          result.free_directions > 0 ? RegistrationVerdict::kUnconstrained : RegistrationVerdict::kAccepted;
+    } else {
+      result.verdict = result.correction_far_m <= options_.max_pose_to_depth_sigma * far_depth_sigma_m_
+                           ? RegistrationVerdict::kAccepted
+                           : RegistrationVerdict::kAmbiguous;
+    }
   }
   return result;
 }

@@ -26,9 +26,11 @@
 //   vision_rejected       1: the dense solution failed the estimator's gate on vision_chi2 (then lost = 1)
 //   closure               the frame's loop-closure attempt (slam/loop_closure.hpp): 0 none, 1 accepted (the map
 //                         was deformed and the trajectory with it), 2 refused, 3 agreed (the correction was
-//                         within its noise: old surfaces reactivated, nothing moved)
+//                         within its noise and the layers within the depth noise: old surfaces reactivated,
+//                         nothing moved)
 //   closure_refusal       the refused attempt's failed test, slam::ClosureRefusal: 1 overlap, 2 diverged,
-//                         3 residual, 4 unconstrained, 5 covariance, 6 correction, 7 solve, 8 consistency; 0 else
+//                         3 residual, 4 unconstrained, 5 covariance, 6 correction, 7 solve, 8 consistency,
+//                         9 ambiguous; 0 else
 //   closure_error_mm      an attempt that reached the deformation: the mean constraint error after the solve [mm]
 //   closure_inliers       the registration's ICP inliers between the active and inactive renderings (at level 0,
 //                         or at the level where it found too little overlap)

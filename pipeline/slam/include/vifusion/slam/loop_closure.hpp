@@ -14,7 +14,9 @@
 //   3. the solve must leave the constraints consistent (mean error after ≤ max_constraint_error_m), else the
 //      graph is reverted and the map is left exactly as it was (the closure is refused and reported);
 //   A registration whose correction is within its own noise is not a deformation: moving the map by it would
-//   move it by noise. The models agree; the inactive surfels in view are reactivated and nothing moves (kAgreed).
+//   move it by noise. If it also moves no point by more than the depth noise, the models agree; the inactive
+//   surfels in view are reactivated and nothing moves (kAgreed). If it does, it is refused as ambiguous: two
+//   layers that far apart would both be tracked against.
 //   4. an accepted deformation moves every surfel and normal on the GPU (map/surfel_deformation.hpp), the
 //      inactive surfels in view are reactivated (map/surfel_reactivation.hpp), and the caller moves the camera
 //      pose, the estimator's state (estimator::TwoStateEstimator::moveWithMap) and the trajectory it keeps
@@ -78,8 +80,9 @@ enum class ClosureOutcome : std::uint8_t {
   kAccepted,  ///< the map was deformed
   kRefused,   ///< registered or solved, but a test failed: the map is as it was
   /// registered and accepted, but the correction is within its own noise (RegistrationOptions::
-  /// min_correction_chi2): nothing moved, the inactive surfels in view were reactivated (the revisit is mapped
-  /// onto the old surfaces, not beside them)
+  /// min_correction_chi2) and moves no point by more than the depth noise (model_registration.hpp's offset
+  /// test): nothing moved, the inactive surfels in view were reactivated (the revisit is mapped onto the old
+  /// surfaces, not beside them)
   kAgreed,
 };
 const char* closureOutcomeName(ClosureOutcome outcome);
@@ -95,9 +98,11 @@ enum class ClosureRefusal : std::uint8_t {
   kCorrection,     ///< RegistrationVerdict::kCorrection
   kSolve,          ///< the deformation graph's solve failed
   kConsistency,    ///< the solve left the constraints inconsistent (LoopClosureOptions::max_constraint_error_m)
+  kAmbiguous,      ///< RegistrationVerdict::kAmbiguous (last: frames.csv's codes of the others stay)
 };
-inline constexpr int kClosureRefusals = 9;
-/// "none", "overlap", "diverged", "residual", "unconstrained", "covariance", "correction", "solve", "consistency".
+inline constexpr int kClosureRefusals = 10;
+/// "none", "overlap", "diverged", "residual", "unconstrained", "covariance", "correction", "solve", "consistency",
+/// "ambiguous".
 const char* closureRefusalName(ClosureRefusal refusal);
 
 struct ClosureReport {

@@ -40,6 +40,12 @@
 // the threshold the two models agree to the alignment's noise and the calibration's, and moving the map by ξ would move
 // it by them (LoopClosure then reactivates the old surfaces without deforming anything). The covariance test stays with
 // the random part: it asks whether the alignment measured the correction, not whether the sensor is unbiased.
+//   offset       a correction that is no evidence of drift is accepted (to reactivate) only if it moves a point at
+//                the far end of the depth range by √(|ξ_t|² + z_far²·|ξ_θ|²) ≤ max_pose_to_depth_sigma · σ_z(z_far):
+//                then the two layers coincide to the sensor's noise and fusing the revisit into the old surfaces
+//                is what fusing one more frame would do. A larger one ("ambiguous") is neither drift the alignment
+//                can tell from the calibration's remnant nor agreement: reactivating would lay two surfaces that
+//                far apart into the active map, where tracking pulls between them, so neither is done.
 //
 // Lifecycle: construct (declares the ICP's buffers in the plan) → build(arena, level inputs) once → align()
 // when a closure is tried. No allocation in align().
@@ -75,7 +81,8 @@ struct RegistrationOptions {
   double min_constraint_share = 0.02;
   /// The information's scale for the pixels' correlation (DenseTermsOptions::information_scale). In (0, 1].
   double information_scale = 0.01;
-  /// The covariance test's bound on σ_p(z_far) as a multiple of σ_z(z_far) (see above). > 0.
+  /// The covariance test's bound on σ_p(z_far), and the offset test's on an agreeing correction's displacement
+  /// at z_far, as a multiple of σ_z(z_far) (see above). > 0.
   double max_pose_to_depth_sigma = 1.0;
   /// Largest correction accepted [m], [rad] (ElasticFusion refuses a 0.3 m jump in tracking).
   double max_correction_m = 0.3;
@@ -97,7 +104,8 @@ enum class RegistrationVerdict {
   kResidual,
   kUnconstrained,
   kCovariance,
-  kCorrection
+  kCorrection,
+  kAmbiguous
 };
 const char* registrationVerdictName(RegistrationVerdict verdict);
 
@@ -113,6 +121,7 @@ struct RegistrationResult {
   double far_sigma_m = 0.0;         ///< σ_p(z_far) = √(σ_r² + z_far²·σ_θ²) [m], the covariance test's figure
   double correction_m = 0.0;        ///< |translation of log(T_inactive_active)| [m]
   double correction_rad = 0.0;      ///< |rotation of log(T_inactive_active)| [rad]
+  double correction_far_m = 0.0;    ///< √(|ξ_t|² + z_far²·|ξ_θ|²) [m], the offset test's figure
   double correction_chi2 = 0.0;  ///< ξᵀ Σ⁺ ξ of the correction, Σ with the systematic part (min_correction_chi2)
   double bias_bound = 0.0;       ///< Σ w e²: the systematic part's scale (0 without a calibrated σ_b)
   int free_directions = 0;       ///< directions left out as unconstrained (0–4; icp_degeneracy.hpp)

@@ -205,30 +205,37 @@ test::SevenScenesFrame withInverseDepthBias(test::SevenScenesFrame frame, double
   return frame;
 }
 
+/// Frame 150 seen by a rig whose 1/z correction is off by b = 2σ_b: the old layer (inactive) was observed from 1.5×
+/// farther than the new one (active, the frame itself), so its points moved by b·(1.5 z)² and the new ones' by
+/// b·z², and the renderings disagree by b·1.25 z², not by drift. `icp` carries σ_b (the calibration's).
+struct BiasedLayers {
+  static constexpr float kObservedFarther = 1.5f;
+  explicit BiasedLayers(double bias_sigma_per_m)
+      : bias_per_m(2.0 * bias_sigma_per_m),
+        active(test::loadSevenScenesFrame(150)),
+        inactive(withInverseDepthBias(active, bias_per_m * (kObservedFarther * kObservedFarther - 1.0))) {
+    icp.inverse_depth_bias_sigma_per_m = static_cast<float>(bias_sigma_per_m);
+  }
+  double bias_per_m;
+  test::SevenScenesFrame active, inactive;
+  tracking::IcpOptions icp;
+};
+
 TEST_F(ModelRegistrationTest, ALayerOffByTheCalibratedDepthBiasIsNoEvidenceOfDrift) {
-  // A rig whose 1/z correction is off by b = 2σ_b: the old layer was observed from 1.5× farther than the new one,
-  // so its points moved by b·(1.5 z)² and the new ones' by b·z², and the renderings disagree by b·1.25 z²
-  // (millimetres at 1–3 m), not by drift. Without σ_b the millimetres are significant against the alignment's
-  // noise; with it the correction's χ² is at most (b/σ_b)² = 4 (Σ w e² bounds δᵀHδ; model_registration.hpp),
-  // below every min_correction_chi2 entry.
-  constexpr double kBiasSigma_per_m = 5e-4;
-  constexpr double kBias_per_m = 2.0 * kBiasSigma_per_m;
-  constexpr float kObservedFarther = 1.5f;
-  constexpr double kRelativeBias_per_m = kBias_per_m * (kObservedFarther * kObservedFarther - 1.0);
-  const test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
-  const test::SevenScenesFrame biased = withInverseDepthBias(frame, kRelativeBias_per_m);
+  // Millimetres at 1–3 m. Without σ_b they are significant against the alignment's noise; with it the
+  // correction's χ² is at most (b/σ_b)² = 4 (Σ w e² bounds δᵀHδ; model_registration.hpp), below every
+  // min_correction_chi2 entry, and the layers coincide to the depth noise: agreed.
+  const BiasedLayers layers(5e-4);
   slam::RegistrationResult without_sigma;
   {
-    RegistrationRig rig(context(), biased, frame, {}, {}, kObservedFarther);
+    RegistrationRig rig(context(), layers.inactive, layers.active, {}, {}, BiasedLayers::kObservedFarther);
     without_sigma = rig.align();
   }
-  tracking::IcpOptions icp;
-  icp.inverse_depth_bias_sigma_per_m = static_cast<float>(kBiasSigma_per_m);
-  RegistrationRig rig(context(), biased, frame, {}, icp, kObservedFarther);
+  RegistrationRig rig(context(), layers.inactive, layers.active, {}, layers.icp, BiasedLayers::kObservedFarther);
   const slam::RegistrationResult with_sigma = rig.align();
   std::printf("layer off by b = %.0e /m: correction %.2f mm / %.3f°, χ² %.1f without σ_b, %.2f with σ_b = %.0e\n",
-              kBias_per_m, 1e3 * with_sigma.correction_m, with_sigma.correction_rad * 180.0 / M_PI,
-              without_sigma.correction_chi2, with_sigma.correction_chi2, kBiasSigma_per_m);
+              layers.bias_per_m, 1e3 * with_sigma.correction_m, with_sigma.correction_rad * 180.0 / M_PI,
+              without_sigma.correction_chi2, with_sigma.correction_chi2, layers.icp.inverse_depth_bias_sigma_per_m);
   const slam::RegistrationOptions defaults;
   EXPECT_GT(without_sigma.correction_chi2, defaults.min_correction_chi2.back()) << "millimetres at sub-mm σ";
   EXPECT_EQ(without_sigma.bias_bound, 0.0);
@@ -237,34 +244,27 @@ TEST_F(ModelRegistrationTest, ALayerOffByTheCalibratedDepthBiasIsNoEvidenceOfDri
   EXPECT_FALSE(with_sigma.significant);
   EXPECT_TRUE(with_sigma.accepted()) << slam::registrationVerdictName(with_sigma.verdict);
   EXPECT_NEAR(with_sigma.correction_m, without_sigma.correction_m, 1e-9) << "σ_b judges, it does not move";
-  EXPECT_LE(with_sigma.correction_far_m, farDepthSigma(icp)) << "the layers coincide to the depth noise";
+  EXPECT_LE(with_sigma.correction_far_m, farDepthSigma(layers.icp)) << "the layers coincide to the depth noise";
 }
 
 TEST_F(ModelRegistrationTest, ALayerOffBeyondTheDepthNoiseIsNeitherMovedNorMerged) {
-  // The rig above with b and σ_b both 2.5 times larger: the correction is still no evidence of drift (χ² ≤ 4),
+  // The layers above with σ_b (and so b) 2.5 times larger: the correction is still no evidence of drift (χ² ≤ 4),
   // but it moves a point at the far end of the depth range by more than σ_z there. Reactivating the old layer
   // would put both into the active map for tracking to pull between: the registration calls it ambiguous. A bias
   // this large also bends the layer by about the depth noise (χ² per inlier just over 1), which the residual test
   // judges; it is widened here to reach the test after it.
-  constexpr double kBiasSigma_per_m = 1.25e-3;
-  constexpr double kBias_per_m = 2.0 * kBiasSigma_per_m;
-  constexpr float kObservedFarther = 1.5f;
-  constexpr double kRelativeBias_per_m = kBias_per_m * (kObservedFarther * kObservedFarther - 1.0);
-  const test::SevenScenesFrame frame = test::loadSevenScenesFrame(150);
-  tracking::IcpOptions icp;
-  icp.inverse_depth_bias_sigma_per_m = static_cast<float>(kBiasSigma_per_m);
+  const BiasedLayers layers(1.25e-3);
   slam::RegistrationOptions options;
   options.max_mean_chi2 = 1.5;
-  RegistrationRig rig(context(), withInverseDepthBias(frame, kRelativeBias_per_m), frame, options, icp,
-                      kObservedFarther);
+  RegistrationRig rig(context(), layers.inactive, layers.active, options, layers.icp, BiasedLayers::kObservedFarther);
   const slam::RegistrationResult result = rig.align();
   std::printf(
       "layer off by b = %.1e /m: correction %.2f mm / %.3f°, %.1f mm at the far end, χ² %.2f (%.2f per inlier)\n",
-      kBias_per_m, 1e3 * result.correction_m, result.correction_rad * 180.0 / M_PI, 1e3 * result.correction_far_m,
+      layers.bias_per_m, 1e3 * result.correction_m, result.correction_rad * 180.0 / M_PI, 1e3 * result.correction_far_m,
       result.correction_chi2, result.mean_chi2);
   EXPECT_LE(result.correction_chi2, 4.0);
   EXPECT_FALSE(result.significant);
-  EXPECT_GT(result.correction_far_m, farDepthSigma(icp));
+  EXPECT_GT(result.correction_far_m, farDepthSigma(layers.icp));
   EXPECT_EQ(result.verdict, slam::RegistrationVerdict::kAmbiguous) << slam::registrationVerdictName(result.verdict);
 }
 

@@ -180,21 +180,26 @@ RegistrationResult ModelRegistration::align() {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> rotation(covariance.bottomRightCorner<3, 3>());
   result.position_sigma_m = std::sqrt(std::max(0.0, position.eigenvalues().maxCoeff()));
   result.rotation_sigma_rad = std::sqrt(std::max(0.0, rotation.eigenvalues().maxCoeff()));
-  result.far_sigma_m = std::hypot(result.position_sigma_m, far_depth_m_ * result.rotation_sigma_rad);
+  // Both the covariance and the offset test judge a pose change by how far it moves a point at z_far.
+  const auto at_far_depth = [&](double position_m, double rotation_rad) {
+    return std::hypot(position_m, far_depth_m_ * rotation_rad);
+  };
+  const double far_bound_m = options_.max_pose_to_depth_sigma * far_depth_sigma_m_;
+  result.far_sigma_m = at_far_depth(result.position_sigma_m, result.rotation_sigma_rad);
   const Vector6d correction = T.log();
   result.correction_m = correction.head<3>().norm();
   result.correction_rad = correction.tail<3>().norm();
-  result.correction_far_m = std::hypot(result.correction_m, far_depth_m_ * result.correction_rad);
+  result.correction_far_m = at_far_depth(result.correction_m, result.correction_rad);
   // Σ = (1/s + Σ w e²)·H⁺ (model_registration.hpp): the random and the systematic part share H⁺'s shape.
   result.bias_bound = last.weighted_squared_bound;
   const double covariance_scale = 1.0 / options_.information_scale + result.bias_bound;
   result.correction_chi2 = correction.dot(projected.H * correction) / covariance_scale;
   if (!(result.mean_chi2 <= options_.max_mean_chi2)) {
     result.verdict = RegistrationVerdict::kResidual;
-  } else if (!(result.far_sigma_m <= options_.max_pose_to_depth_sigma * far_depth_sigma_m_)) {
+  } else if (!(result.far_sigma_m <= far_bound_m)) {
     result.verdict = RegistrationVerdict::kCovariance;
-  } else if (!(correction.head<3>().norm() <= options_.max_correction_m) ||
-             !(correction.tail<3>().norm() <= options_.max_correction_rad)) {
+  } else if (!(result.correction_m <= options_.max_correction_m) ||
+             !(result.correction_rad <= options_.max_correction_rad)) {
     result.verdict = RegistrationVerdict::kCorrection;
   } else {
     const int constrained = 6 - result.free_directions;
@@ -206,9 +211,8 @@ RegistrationResult ModelRegistration::align() {
       result.verdict =
           result.free_directions > 0 ? RegistrationVerdict::kUnconstrained : RegistrationVerdict::kAccepted;
     } else {
-      result.verdict = result.correction_far_m <= options_.max_pose_to_depth_sigma * far_depth_sigma_m_
-                           ? RegistrationVerdict::kAccepted
-                           : RegistrationVerdict::kAmbiguous;
+      result.verdict =
+          result.correction_far_m <= far_bound_m ? RegistrationVerdict::kAccepted : RegistrationVerdict::kAmbiguous;
     }
   }
   return result;

@@ -3,7 +3,9 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
+#include "vifusion/core/binomial_test.hpp"
 #include "vifusion/core/error.hpp"
 #include "vifusion/shaders/spirv.hpp"
 #include "vifusion/tracking/icp_degeneracy.hpp"
@@ -18,6 +20,9 @@ void TrackerOptions::validate() const {
   if (!(rotation_converged_step_rad >= 0.0)) throw Error("tracker option 'rotation_converged_step_rad' must be ≥ 0");
   if (!(min_inlier_fraction >= 0.0 && min_inlier_fraction < 1.0)) {
     throw Error("tracker option 'min_inlier_fraction' must be in [0, 1)");
+  }
+  if (!(health_test_significance > 0.0 && health_test_significance < 0.5)) {
+    throw Error("tracker option 'health_test_significance' must be in (0, 0.5)");
   }
   if (!(min_icp_constraint_share >= 0.0 && min_icp_constraint_share < 1.0 / 3.0)) {
     throw Error("tracker option 'min_icp_constraint_share' must be in [0, 1/3)");
@@ -242,9 +247,12 @@ TrackingResult DenseTracker::track(const SE3d& T_ref_cur_guess, ReferencePixels 
   return result;
 }
 
-// The share of the frame's valid level-0 pixels that the final iteration kept as inliers.
+// Whether the final iteration's ICP inliers fail to show that fewer than min_inlier_fraction of the level-0
+// pixels landing on the model are aligned (health_test_significance).
 bool DenseTracker::healthy(const TrackingResult& statistics) const {
-  return statistics.icp_inliers >= options_.min_inlier_fraction * statistics.icp_candidates;
+  const auto inliers = static_cast<std::uint64_t>(std::llround(statistics.icp_inliers));
+  const auto candidates = static_cast<std::uint64_t>(std::llround(statistics.icp_candidates));
+  return !shareBelow(inliers, candidates, options_.min_inlier_fraction, options_.health_test_significance);
 }
 
 bool DenseTracker::explainsFrame(const TrackingResult& statistics) const {

@@ -53,6 +53,13 @@ struct TrackerOptions {
   /// new view (sim:fast at 640×480, RGB-D-inertial: 403 of 601 frames lost, ATE 453 mm; the
   /// aligned share of the covered pixels never fell below 0.5 there: 0 lost, 14.3 mm).
   double min_inlier_fraction = 0.2;
+  /// The health test is a one-sided binomial test (core/binomial_test.hpp), not a hard ratio: a frame is lost
+  /// when its ICP inliers show the share below min_inlier_fraction at this significance. On a view the map
+  /// hardly covers (a fast turn, where the photometric term aligns the frame to the previous one's fill) a
+  /// handful of candidates shows nothing either way; as a ratio, one failing candidate made the frame lost
+  /// while none left it tracked. For a covered view the bound is the ratio less z_α standard errors (0.2 less
+  /// 0.002 at 300 000 candidates). 1 %, the level of the estimator's χ² gates and the closure tests. In (0, 0.5).
+  double health_test_significance = 0.01;
   /// After a lost frame the health test above is not enough: from a guess seconds old (the last tracked pose
   /// after a covered camera) a frame can find a few surfaces of the old view within the innovation bound and
   /// pass it while most of the frame sees elsewhere (tests/bench/README.md, "Relocalisation"). A frame that

@@ -19,6 +19,7 @@
 #include "vifusion/daemon/sync_line_source.hpp"
 #include "vifusion/datasets/fault_injection.hpp"
 #include "vifusion/dds/reader.hpp"
+#include "vifusion/map/surfel.hpp"
 #include "vifusion/service/log.hpp"
 #include "vifusion/service/signal_fd.hpp"
 #include "vifusion/service/systemd_notifier.hpp"
@@ -128,6 +129,7 @@ int serve(const config::DaemonConfig& config) {
 
   slam::SlamOptions slam_options;
   slam_options.mode = slam::slamModeFromName(config.mode);  // validate() admitted only the valid names
+  static_assert(config::kDefaultMapCapacity == map::kDefaultMapCapacity, "one default map capacity");
   slam_options.map.capacity = static_cast<std::uint32_t>(config.map_capacity);  // validate() bounded it
   slam_options.mapping = config.mapping;
   const bool inertial = slam_options.mode != slam::SlamMode::kRgbd;

@@ -57,6 +57,10 @@ struct SyncConfig {
   std::string edges = "rising";  ///< rising, falling or both
 };
 
+/// map_capacity's default: map::kDefaultMapCapacity (map/surfel.hpp, the largest surfel array every Vulkan
+/// device binds), restated here because this library is GPU-free; vifusiond asserts that the two agree.
+inline constexpr std::int64_t kDefaultMapCapacity = 2'796'202;
+
 struct DaemonConfig {
   std::string source =
       "sim:living_room_0";  ///< sim:NAME, dataset:DIR, tum:DIR, icl:DIR, 7scenes:DIR, klg:FILE, zr300[:SERIAL]
@@ -69,7 +73,7 @@ struct DaemonConfig {
   std::int64_t frame_ring = 4;            ///< camera ring capacity [frames], preallocated
   /// Surfels the map holds: its GPU memory, fixed at start (≈ 110 bytes a surfel). When it fills,
   /// the oldest inactive surfels make room (map_maintenance.hpp).
-  std::int64_t map_capacity = 2'000'000;
+  std::int64_t map_capacity = kDefaultMapCapacity;
   double map_publish_period_s = 5.0;  ///< rt/vifusion/map every this many seconds; 0: never
   double status_period_s = 0.2;       ///< rt/vifusion/status every this many seconds (≥ 1 Hz)
   /// The robot's map across runs (slam/map_saving.hpp, README "Saving and loading a map"): loaded at start (the

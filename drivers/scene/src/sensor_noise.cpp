@@ -133,16 +133,23 @@ void SensorNoise::reserve(int width, int height) {
 
 void SensorNoise::addDepthNoise(ImageView<const float> depth_m, ImageView<std::uint16_t> noisy_depth,
                                 std::uint64_t frame_index) {
-  if (depth_m.width != noisy_depth.width || depth_m.height != noisy_depth.height) {
+  addDepthNoise(depth_m, noisy_depth, frame_index, 1);
+}
+
+void SensorNoise::addDepthNoise(ImageView<const float> depth_m, ImageView<std::uint16_t> noisy_depth,
+                                std::uint64_t frame_index, int subsampling) {
+  if (subsampling < 1 || depth_m.width != noisy_depth.width * subsampling ||
+      depth_m.height != noisy_depth.height * subsampling) {
     throw std::invalid_argument("SensorNoise: clean depth is " + std::to_string(depth_m.width) + "x" +
                                 std::to_string(depth_m.height) + " but the output is " +
-                                std::to_string(noisy_depth.width) + "x" + std::to_string(noisy_depth.height));
+                                std::to_string(noisy_depth.width) + "x" + std::to_string(noisy_depth.height) +
+                                " subsampled by " + std::to_string(subsampling));
   }
   if (depth_m.empty()) return;
   reserve(depth_m.width, depth_m.height);
   jitterAndQuantise(depth_m, frame_index);
   if (options_.dot_pattern) acceptDots();
-  fillAndAddNoise(noisy_depth, frame_index);
+  fillAndAddNoise(noisy_depth, subsampling, frame_index);
 }
 
 void SensorNoise::jitterAndQuantise(ImageView<const float> depth_m, std::uint64_t frame_index) {
@@ -216,13 +223,17 @@ void SensorNoise::acceptDots() {
   });
 }
 
-void SensorNoise::fillAndAddNoise(ImageView<std::uint16_t> noisy_depth, std::uint64_t frame_index) const {
+void SensorNoise::fillAndAddNoise(ImageView<std::uint16_t> noisy_depth, int subsampling,
+                                  std::uint64_t frame_index) const {
   const ImageView<const float> disparity = disparity_px_.view();
   const ImageView<const std::uint8_t> accepted = accepted_.view();
   const double fb_px_m = options_.focal_length_px * options_.baseline_m;
   pool_.forRows(noisy_depth.height, [&](int row_begin, int row_end) {
-    for (int y = row_begin; y < row_end; ++y) {
-      for (int x = 0; x < noisy_depth.width; ++x) {
+    for (int out_y = row_begin; out_y < row_end; ++out_y) {
+      for (int out_x = 0; out_x < noisy_depth.width; ++out_x) {
+        // The sensor's pixel this output pixel keeps; its draws are the ones the full image gives it.
+        const int x = out_x * subsampling;
+        const int y = out_y * subsampling;
         double d_px = disparity(x, y);
         if (options_.dot_pattern) {
           d_px = 0.0;
@@ -233,15 +244,15 @@ void SensorNoise::fillAndAddNoise(ImageView<std::uint16_t> noisy_depth, std::uin
             }
           }
         }
-        noisy_depth(x, y) = 0;
+        noisy_depth(out_x, out_y) = 0;
         if (!(d_px > 0.0)) continue;
         const double z_cm = std::nearbyint(100.0 * fb_px_m / d_px);
         if (!(z_cm > 0.0)) continue;
-        const double n = normal(options_.seed, kDepthStream, pixelCounter(frame_index, x, y, noisy_depth.width));
+        const double n = normal(options_.seed, kDepthStream, pixelCounter(frame_index, x, y, disparity.width));
         const double index = std::nearbyint(kKinectBandingConstant_cm / z_cm + options_.depth_noise_sigma * n + 0.5);
         if (!(index > 0.0)) continue;
         const double units = std::nearbyint(kKinectBandingConstant_cm / index / 100.0 * options_.depth_scale);
-        if (units <= 65535.0) noisy_depth(x, y) = static_cast<std::uint16_t>(units);
+        if (units <= 65535.0) noisy_depth(out_x, out_y) = static_cast<std::uint16_t>(units);
       }
     }
   });

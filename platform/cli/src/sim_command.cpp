@@ -184,11 +184,7 @@ int runSim(const SimOptions& options) {
   const int subsampling = scene::sensorSubsampling(camera);
   const PinholeCamera sensor_camera = scene::sensorCamera(camera, subsampling);
   Image<float> sensor_depth_m;
-  Image<uint16_t> sensor_depth;
-  if (subsampling > 1) {
-    sensor_depth_m.resize(sensor_camera.width, sensor_camera.height);
-    sensor_depth.resize(sensor_camera.width, sensor_camera.height);
-  }
+  if (subsampling > 1) sensor_depth_m.resize(sensor_camera.width, sensor_camera.height);
   Image<float> depth_m(camera.width, camera.height);
   std::vector<SE3d> sub_frame_poses(std::max(blur_samples, 1));
   const int64_t frames = (t_end_ns - fit.first_pose_ns) / kFramePeriodNs + 1;
@@ -215,8 +211,7 @@ int runSim(const SimOptions& options) {
     } else if (options.noise && subsampling > 1) {
       // Depth only at the native resolution: colour there would be rendered and thrown away.
       renderer.renderBlurred(sub_frame_poses, sensor_camera, ImageView<Rgb8>{}, sensor_depth_m.view());
-      noise.addDepthNoise(sensor_depth_m.view(), sensor_depth.view(), static_cast<uint64_t>(k));
-      scene::subsampleDepth(sensor_depth.view(), subsampling, depth.view());
+      noise.addDepthNoise(sensor_depth_m.view(), depth.view(), static_cast<uint64_t>(k), subsampling);
       renderer.renderBlurred(sub_frame_poses, camera, rgb.view(), depth_m.view());
       noise.addIntensityNoise(rgb.view(), static_cast<uint64_t>(k));
     } else if (options.noise) {

@@ -86,6 +86,40 @@ TEST(SensorResolution, SubsamplingOfTheSensorImage) {
   EXPECT_THROW(subsampleDepth(native.view(), 2, wrong.view()), std::invalid_argument);
 }
 
+TEST(SensorResolution, SubsampledNoiseIsTheNativeNoiseAtTheKeptPixels) {
+  // `vifusion sim` runs step 4 only at the pixels it keeps; every kept value must be the full image's, bit for bit
+  // (the draws are indexed by the sensor's pixel), on a furnished view over several frames and both subsamplings.
+  const PinholeCamera sensor = test::iclCamera();
+  Image<Rgb8> rgb(sensor.width, sensor.height);
+  Image<float> clean_m(sensor.width, sensor.height);
+  Renderer(room(), pool()).render(test::furnishedView(), sensor, rgb.view(), clean_m.view());
+  SensorNoiseOptions options;
+  options.seed = 5;
+  SensorNoise noise(options, pool());
+  Image<std::uint16_t> full(sensor.width, sensor.height);
+  for (const int s : {2, 4}) {
+    Image<std::uint16_t> reference(sensor.width / s, sensor.height / s);
+    Image<std::uint16_t> kept(sensor.width / s, sensor.height / s);
+    for (const std::uint64_t frame : {0u, 1u, 17u}) {
+      noise.addDepthNoise(clean_m.view(), full.view(), frame);
+      subsampleDepth(full.view(), s, reference.view());
+      noise.addDepthNoise(clean_m.view(), kept.view(), frame, s);
+      int differing = 0, valid = 0;
+      for (int y = 0; y < kept.height(); ++y) {
+        for (int x = 0; x < kept.width(); ++x) {
+          differing += kept(x, y) != reference(x, y);
+          valid += kept(x, y) != 0;
+        }
+      }
+      EXPECT_EQ(differing, 0) << "subsampling " << s << ", frame " << frame;
+      EXPECT_GT(valid, kept.width() * kept.height() / 2) << "subsampling " << s << ", frame " << frame;
+    }
+  }
+  Image<std::uint16_t> wrong(sensor.width / 4 + 1, sensor.height / 4);
+  EXPECT_THROW(noise.addDepthNoise(clean_m.view(), wrong.view(), 0, 4), std::invalid_argument);
+  EXPECT_THROW(noise.addDepthNoise(clean_m.view(), full.view(), 0, 0), std::invalid_argument);
+}
+
 TEST(SensorResolution, NativePixelsSeeTheRaysOfTheSubsampledOnes) {
   // Clean depth: the sensor camera's pixel (4x, 4y) must see what the 160×120 camera sees at (x, y).
   const PinholeCamera camera = quarterCamera();
@@ -107,14 +141,16 @@ TEST(SensorResolution, NativePixelsSeeTheRaysOfTheSubsampledOnes) {
 
 TEST(SensorResolution, SmallImagesHaveTheSensorsNoise) {
   const SE3d view = test::furnishedView();
-  const double sigma_640_m = robustSigma_m(noisyDepth(test::iclCamera(), view, true), cleanDepth(test::iclCamera(), view));
+  const double sigma_640_m =
+      robustSigma_m(noisyDepth(test::iclCamera(), view, true), cleanDepth(test::iclCamera(), view));
   const PinholeCamera camera = quarterCamera();
   const Image<float> clean_m = cleanDepth(camera, view);
   const double sigma_subsampled_m = robustSigma_m(noisyDepth(camera, view, true), clean_m);
   const double sigma_direct_m = robustSigma_m(noisyDepth(camera, view, false), clean_m);
-  std::printf("depth noise at 2.5-3.5 m (robust sigma): 640x480 %.1f mm, 160x120 subsampled %.1f mm, "
-              "160x120 noise applied at its own pixels %.1f mm\n",
-              1e3 * sigma_640_m, 1e3 * sigma_subsampled_m, 1e3 * sigma_direct_m);
+  std::printf(
+      "depth noise at 2.5-3.5 m (robust sigma): 640x480 %.1f mm, 160x120 subsampled %.1f mm, "
+      "160x120 noise applied at its own pixels %.1f mm\n",
+      1e3 * sigma_640_m, 1e3 * sigma_subsampled_m, 1e3 * sigma_direct_m);
   EXPECT_NEAR(sigma_subsampled_m, sigma_640_m, 0.25 * sigma_640_m);
   // What the subsampling avoids: the model's pixel-sized steps on 4× larger pixels.
   EXPECT_GT(sigma_direct_m, 1.5 * sigma_640_m);

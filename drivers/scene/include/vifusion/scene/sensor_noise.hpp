@@ -85,6 +85,12 @@ class SensorNoise {
   /// 0 = none]; both views the same size (std::invalid_argument otherwise).
   void addDepthNoise(ImageView<const float> depth_m, ImageView<std::uint16_t> noisy_depth, std::uint64_t frame_index);
 
+  /// The same noisy image subsampled by s ≥ 1 (sensor_resolution.hpp): noisy_depth(x, y) is the value the
+  /// call above gives at depth_m's pixel (s·x, s·y), equal to it bit for bit; depth_m is s × noisy_depth's
+  /// size (std::invalid_argument otherwise). Step 4 runs only at the kept pixels.
+  void addDepthNoise(ImageView<const float> depth_m, ImageView<std::uint16_t> noisy_depth, std::uint64_t frame_index,
+                     int subsampling);
+
   /// Gaussian colour noise in place.
   void addIntensityNoise(ImageView<Rgb8> rgb, std::uint64_t frame_index) const;
 
@@ -93,7 +99,7 @@ class SensorNoise {
  private:
   void jitterAndQuantise(ImageView<const float> depth_m, std::uint64_t frame_index);
   void acceptDots();
-  void fillAndAddNoise(ImageView<std::uint16_t> noisy_depth, std::uint64_t frame_index) const;
+  void fillAndAddNoise(ImageView<std::uint16_t> noisy_depth, int subsampling, std::uint64_t frame_index) const;
 
   SensorNoiseOptions options_;
   RowPool& pool_;

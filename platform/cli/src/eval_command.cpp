@@ -1,5 +1,6 @@
 #include "eval_command.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +11,7 @@
 #include "vifusion/core/time.hpp"
 #include "vifusion/datasets/ground_truth_states.hpp"
 #include "vifusion/eval/alignment.hpp"
+#include "vifusion/eval/camera_tilt.hpp"
 #include "vifusion/eval/metrics.hpp"
 #include "vifusion/eval/ply_points.hpp"
 #include "vifusion/eval/reconstruction_error.hpp"
@@ -139,8 +141,9 @@ int runEval(const EvalOptions& options) {
         options.gt_states.empty() ? std::filesystem::path(options.gt).parent_path() / "groundtruth_states.csv"
                                   : std::filesystem::path(options.gt_states);
     const Eigen::Vector3d g_gt_W = options.up == "z" ? Eigen::Vector3d(0, 0, -9.81) : Eigen::Vector3d(0, -9.81, 0);
-    state_errors = eval::stateErrors(datasets::readGroundTruthStates(gt_states),
-                                     eval::readEstimatedStates(options.states), T_gt_est.rotationMatrix(), g_gt_W);
+    const std::vector<eval::EstimatedState> states = eval::readEstimatedStates(options.states);
+    state_errors =
+        eval::stateErrors(datasets::readGroundTruthStates(gt_states), states, T_gt_est.rotationMatrix(), g_gt_W);
     report["states"] = {{"velocity_rms_mps", state_errors->velocity_rms_mps},
                         {"velocity_rms_after_5s_mps", state_errors->velocity_rms_after_5s_mps},
                         {"gyro_bias_max_after_15s_rad_s", state_errors->gyro_bias_max_after_15s},
@@ -150,6 +153,17 @@ int runEval(const EvalOptions& options) {
                         {"gravity_rms_deg", state_errors->gravity_rms_deg},
                         {"gravity_final_deg", state_errors->gravity_final_deg},
                         {"samples", state_errors->series.size()}};
+    const std::vector<eval::CameraTiltSample> tilt =
+        eval::cameraTilt(gt, est, ate.gt_index, ate.est_index, states, g_gt_W, secondsToNs(options.max_difference_s));
+    double tilt_sum_deg2 = 0.0, tilt_max_deg = 0.0;
+    for (const eval::CameraTiltSample& sample : tilt) {
+      tilt_sum_deg2 += sample.tilt_deg * sample.tilt_deg;
+      tilt_max_deg = std::max(tilt_max_deg, sample.tilt_deg);
+    }
+    report["camera_tilt"] = {{"rms_deg", std::sqrt(tilt_sum_deg2 / static_cast<double>(tilt.size()))},
+                             {"max_deg", tilt_max_deg},
+                             {"final_deg", tilt.back().tilt_deg},
+                             {"samples", tilt.size()}};
   }
 
   if (!options.map.empty()) {

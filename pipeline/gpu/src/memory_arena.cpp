@@ -1,5 +1,9 @@
 #include "vifusion/gpu/memory_arena.hpp"
 
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cstdint>
 #include <cstring>
 #include <map>
 
@@ -8,6 +12,17 @@
 
 namespace vifusion::gpu {
 namespace {
+
+/// Asks the kernel for transparent huge pages over the whole pages inside [pointer, pointer + bytes): host memory
+/// that a driver maps for us (lavapipe's, or system memory of a unified-memory GPU) is then committed in 2 MiB
+/// pages, 512 times fewer faults than 4 KiB ones, and the map's random access misses the TLB less. Advisory only:
+/// where the kernel has THP off or the range is not anonymous memory the call fails and nothing changes.
+void adviseHugePages(void* pointer, std::size_t bytes) {
+  const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const auto begin = (reinterpret_cast<std::uintptr_t>(pointer) + page - 1) / page * page;
+  const auto end = (reinterpret_cast<std::uintptr_t>(pointer) + bytes) / page * page;
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+}
 
 struct MemoryPreference {
   VkMemoryPropertyFlags required;
@@ -119,6 +134,7 @@ std::unique_ptr<MemoryArena> MemoryArena::create(const GpuContext& context, cons
     // hours into a run, and the process's resident memory is flat from the first frame (system memory of a
     // unified-memory GPU, or of lavapipe, is otherwise resident only once touched). Zeros also give every buffer
     // a defined first content.
+    adviseHugePages(pointer, arena->blocks_[block].bytes);
     std::memset(pointer, 0, arena->blocks_[block].bytes);
   }
   for (std::size_t i = 0; i < placements.size(); ++i) {

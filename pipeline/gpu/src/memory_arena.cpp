@@ -15,8 +15,8 @@ namespace {
 
 /// Asks the kernel for transparent huge pages over the whole pages inside [pointer, pointer + bytes): host memory
 /// that a driver maps for us (lavapipe's, or system memory of a unified-memory GPU) is then committed in 2 MiB
-/// pages, 512 times fewer faults than 4 KiB ones, and the map's random access misses the TLB less. Advisory only:
-/// where the kernel has THP off or the range is not anonymous memory the call fails and nothing changes.
+/// pages, 512 times fewer faults than 4 KiB ones (the start-up cost: toolchains/README.md). Advisory only: where
+/// the kernel has THP off or the range is not anonymous memory the call fails and nothing changes.
 void adviseHugePages(void* pointer, std::size_t bytes) {
   const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
   const auto begin = (reinterpret_cast<std::uintptr_t>(pointer) + page - 1) / page * page;

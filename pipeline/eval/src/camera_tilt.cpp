@@ -20,14 +20,14 @@ Eigen::Vector3d direction(const Eigen::Vector3d& g, const char* what) {
 
 }  // namespace
 
-std::vector<CameraTiltSample> cameraTilt(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
-                                         const std::vector<std::size_t>& gt_index,
-                                         const std::vector<std::size_t>& est_index,
-                                         const std::vector<EstimatedState>& states, const Eigen::Vector3d& g_gt_W,
-                                         std::int64_t max_difference_ns) {
+CameraTilt cameraTilt(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
+                      const std::vector<std::size_t>& gt_index, const std::vector<std::size_t>& est_index,
+                      const std::vector<EstimatedState>& states, const Eigen::Vector3d& g_gt_W,
+                      std::int64_t max_difference_ns) {
   const Eigen::Vector3d down_G = direction(g_gt_W, "the ground truth's gravity");
   const auto earlier = [](const EstimatedState& s, std::int64_t t_ns) { return s.t_ns < t_ns; };
-  std::vector<CameraTiltSample> samples;
+  CameraTilt tilt;
+  std::vector<CameraTiltSample>& samples = tilt.series;
   const std::size_t pairs = std::min(gt_index.size(), est_index.size());
   for (std::size_t i = 0; i < pairs; ++i) {
     const StampedPose& e = est.at(est_index[i]);
@@ -47,7 +47,14 @@ std::vector<CameraTiltSample> cameraTilt(const std::vector<StampedPose>& gt, con
     samples.push_back({e.t_ns, std::acos(cos_angle) * kRadToDeg});
   }
   if (samples.empty()) throw Error("camera tilt: no estimated pose has an estimator state at its stamp");
-  return samples;
+  double sum_deg2 = 0.0;
+  for (const CameraTiltSample& sample : samples) {
+    sum_deg2 += sample.tilt_deg * sample.tilt_deg;
+    tilt.max_deg = std::max(tilt.max_deg, sample.tilt_deg);
+  }
+  tilt.rms_deg = std::sqrt(sum_deg2 / static_cast<double>(samples.size()));
+  tilt.final_deg = samples.back().tilt_deg;
+  return tilt;
 }
 
 }  // namespace vifusion::eval

@@ -1,6 +1,5 @@
 #include "eval_command.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -153,17 +152,12 @@ int runEval(const EvalOptions& options) {
                         {"gravity_rms_deg", state_errors->gravity_rms_deg},
                         {"gravity_final_deg", state_errors->gravity_final_deg},
                         {"samples", state_errors->series.size()}};
-    const std::vector<eval::CameraTiltSample> tilt =
+    const eval::CameraTilt tilt =
         eval::cameraTilt(gt, est, ate.gt_index, ate.est_index, states, g_gt_W, secondsToNs(options.max_difference_s));
-    double tilt_sum_deg2 = 0.0, tilt_max_deg = 0.0;
-    for (const eval::CameraTiltSample& sample : tilt) {
-      tilt_sum_deg2 += sample.tilt_deg * sample.tilt_deg;
-      tilt_max_deg = std::max(tilt_max_deg, sample.tilt_deg);
-    }
-    report["camera_tilt"] = {{"rms_deg", std::sqrt(tilt_sum_deg2 / static_cast<double>(tilt.size()))},
-                             {"max_deg", tilt_max_deg},
-                             {"final_deg", tilt.back().tilt_deg},
-                             {"samples", tilt.size()}};
+    report["camera_tilt"] = {{"rms_deg", tilt.rms_deg},
+                             {"max_deg", tilt.max_deg},
+                             {"final_deg", tilt.final_deg},
+                             {"samples", tilt.series.size()}};
   }
 
   if (!options.map.empty()) {

@@ -57,7 +57,7 @@ TEST(CameraTilt, AnyWorldWithItsGravityHasNoTiltAndATiltedGravityHasItsAngle) {
   const Eigen::Quaterniond q_W_G = expSO3(Eigen::Vector3d(0.4, -1.1, 0.25));
   Estimate estimate = inAnotherWorld(gt, q_W_G);
   for (const CameraTiltSample& s :
-       cameraTilt(gt, estimate.poses, pairs, pairs, estimate.states, kGravityGt, 1'000'000)) {
+       cameraTilt(gt, estimate.poses, pairs, pairs, estimate.states, kGravityGt, 1'000'000).series) {
     EXPECT_NEAR(s.tilt_deg, 0.0, 1e-6);
   }
   // A yaw error of every camera about gravity is not a tilt.
@@ -65,16 +65,19 @@ TEST(CameraTilt, AnyWorldWithItsGravityHasNoTiltAndATiltedGravityHasItsAngle) {
   const Eigen::Vector3d down_W = estimate.states.front().g_W;
   for (StampedPose& pose : yawed.poses)
     pose.T_world_body = SE3d(expSO3(0.7 * down_W), Eigen::Vector3d::Zero()) * pose.T_world_body;
-  for (const CameraTiltSample& s : cameraTilt(gt, yawed.poses, pairs, pairs, yawed.states, kGravityGt, 1'000'000)) {
+  for (const CameraTiltSample& s :
+       cameraTilt(gt, yawed.poses, pairs, pairs, yawed.states, kGravityGt, 1'000'000).series) {
     EXPECT_NEAR(s.tilt_deg, 0.0, 1e-6);
   }
   // Gravity rotated by 0.3° about a horizontal axis of W: every camera is tilted by exactly that.
   const Eigen::Vector3d horizontal_W = down_W.cross(Eigen::Vector3d(0.3, 0.5, -0.2)).normalized();
   for (EstimatedState& state : estimate.states) state.g_W = expSO3(0.3 * kDegToRad * horizontal_W) * state.g_W;
-  const std::vector<CameraTiltSample> tilted =
-      cameraTilt(gt, estimate.poses, pairs, pairs, estimate.states, kGravityGt, 1'000'000);
-  ASSERT_EQ(tilted.size(), gt.size());
-  for (const CameraTiltSample& s : tilted) EXPECT_NEAR(s.tilt_deg, 0.3, 1e-9);
+  const CameraTilt tilted = cameraTilt(gt, estimate.poses, pairs, pairs, estimate.states, kGravityGt, 1'000'000);
+  ASSERT_EQ(tilted.series.size(), gt.size());
+  for (const CameraTiltSample& s : tilted.series) EXPECT_NEAR(s.tilt_deg, 0.3, 1e-9);
+  EXPECT_NEAR(tilted.rms_deg, 0.3, 1e-9);
+  EXPECT_NEAR(tilted.max_deg, 0.3, 1e-9);
+  EXPECT_NEAR(tilted.final_deg, 0.3, 1e-9);
 }
 
 TEST(CameraTilt, PosesWithoutAStateNearTheirStampAreLeftOut) {
@@ -83,8 +86,10 @@ TEST(CameraTilt, PosesWithoutAStateNearTheirStampAreLeftOut) {
   Estimate estimate = inAnotherWorld(gt, Eigen::Quaterniond::Identity());
   // Every second state 2 ms late: within a 3 ms window they count, within 1 ms they do not.
   for (std::size_t i = 1; i < estimate.states.size(); i += 2) estimate.states[i].t_ns += 2'000'000;
-  EXPECT_EQ(cameraTilt(gt, estimate.poses, pairs, pairs, estimate.states, kGravityGt, 3'000'000).size(), gt.size());
-  EXPECT_EQ(cameraTilt(gt, estimate.poses, pairs, pairs, estimate.states, kGravityGt, 1'000'000).size(), gt.size() / 2);
+  EXPECT_EQ(cameraTilt(gt, estimate.poses, pairs, pairs, estimate.states, kGravityGt, 3'000'000).series.size(),
+            gt.size());
+  EXPECT_EQ(cameraTilt(gt, estimate.poses, pairs, pairs, estimate.states, kGravityGt, 1'000'000).series.size(),
+            gt.size() / 2);
 }
 
 TEST(CameraTilt, NoStateOrNoGravityIsAnError) {

@@ -20,14 +20,20 @@ struct CameraTiltSample {
   double tilt_deg = 0.0;  ///< angle between R_W_C,est^T·g_W,est and R_G_C^T·g_G, in [0, 180]
 };
 
+struct CameraTilt {
+  std::vector<CameraTiltSample> series;
+  double rms_deg = 0.0;
+  double max_deg = 0.0;
+  double final_deg = 0.0;
+};
+
 /// One sample per associated pose pair (gt_index[i], est_index[i], as eval::ate returns them) whose estimated
 /// pose has a state with the same stamp to within `max_difference_ns` (the nearest one). g_gt_W: gravity in
 /// the ground truth's world (any length > 0).
 /// @throws vifusion::Error when no pair has a state, or g_gt_W or a state's g_W is zero or not finite.
-std::vector<CameraTiltSample> cameraTilt(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
-                                         const std::vector<std::size_t>& gt_index,
-                                         const std::vector<std::size_t>& est_index,
-                                         const std::vector<EstimatedState>& states, const Eigen::Vector3d& g_gt_W,
-                                         std::int64_t max_difference_ns);
+CameraTilt cameraTilt(const std::vector<StampedPose>& gt, const std::vector<StampedPose>& est,
+                      const std::vector<std::size_t>& gt_index, const std::vector<std::size_t>& est_index,
+                      const std::vector<EstimatedState>& states, const Eigen::Vector3d& g_gt_W,
+                      std::int64_t max_difference_ns);
 
 }  // namespace vifusion::eval
